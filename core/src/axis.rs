@@ -1,0 +1,98 @@
+//! One axis's pipeline: ADC code -> optional low-pass -> minus bias -> double integration ->
+//! read-out in mouse counts.
+//!
+//! # Design
+//! Coefficients live in [`Settings`] (shared by every axis), state in [`Axis`]. Per sample:
+//!
+//! ```text
+//! y = lowpass(x) in Q16 counts  (or x << 16 without a filter; exact)
+//! c = y - bias_q16              (Q16 counts, exact)
+//! integrate c                   (exact, see crate::integrator)
+//! ```
+//!
+//! The only roundings on the whole path are the low-pass output to Q16 (half up, at most
+//! `2^-17` LSB) and the bias to Q16 (at calibration); read-out rounding is carried.
+
+use crate::config::Settings;
+use crate::integrator::IntegratorState;
+use crate::lowpass::LowpassState;
+use crate::readout::ReadoutState;
+use crate::AdcCode;
+
+/// State of one axis of the tracker.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Axis {
+    bias_q16: i64,
+    last: AdcCode,
+    lowpass: LowpassState,
+    integrator: IntegratorState,
+    readout: ReadoutState,
+}
+
+impl Axis {
+    /// An axis at rest with bias `bias_q16` (Q16 counts, `0..=65535 * 2^16`), its filter
+    /// settled there and its last code the nearest code to it.
+    pub fn new(bias_q16: i64) -> Self {
+        let mut axis = Self::default();
+        axis.set_bias_q16(bias_q16);
+        axis
+    }
+
+    /// Sets the bias (Q16 counts, `0..=65535 * 2^16`) and settles the filter at it; motion
+    /// and read-out remainder are kept.
+    pub fn set_bias_q16(&mut self, bias_q16: i64) {
+        self.bias_q16 = bias_q16;
+        self.lowpass = LowpassState::settled_q16(bias_q16);
+        self.last = AdcCode(crate::math::round_shr(bias_q16, 16).clamp(0, 65_535) as u16);
+    }
+
+    /// The bias subtracted from every sample [Q16 counts].
+    pub const fn bias_q16(&self) -> i64 {
+        self.bias_q16
+    }
+
+    /// The double integrator's state (velocity and position since the last read-out).
+    pub const fn integrator(&self) -> &IntegratorState {
+        &self.integrator
+    }
+
+    /// Stops the motion (zero velocity and undelivered position); bias and filter are kept.
+    pub fn stop(&mut self) {
+        self.integrator.reset();
+    }
+
+    /// Processes one sample.
+    #[inline]
+    pub fn update(&mut self, settings: &Settings, x: AdcCode) {
+        self.last = x;
+        let y = match settings.lowpass() {
+            Some(lp) => lp.process(&mut self.lowpass, x),
+            None => i64::from(x.0) << 16,
+        };
+        settings
+            .scheme()
+            .step(&mut self.integrator, y - self.bias_q16);
+    }
+
+    /// Accounts for `lost` samples that the ADC or DMA dropped, by holding the last code.
+    ///
+    /// A lost sample is lost time, and lost time is a position error: the hold keeps the
+    /// integrator's clock equal to the hardware's. Costs as much as `lost` samples.
+    pub fn hold(&mut self, settings: &Settings, lost: u32) {
+        for _ in 0..lost {
+            self.update(settings, self.last);
+        }
+    }
+
+    /// Drains the position accumulated since the last call into whole mouse counts, carrying
+    /// the remainder.
+    pub fn take_counts(&mut self, settings: &Settings) -> i32 {
+        let z = self.integrator.take_position();
+        settings.readout().take(&mut self.readout, z)
+    }
+
+    /// The read-out remainder not yet delivered [counts].
+    pub fn pending_counts(&self, settings: &Settings) -> f64 {
+        self.readout.pending_counts(settings.readout())
+    }
+}

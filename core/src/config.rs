@@ -1,0 +1,250 @@
+//! Configuration in physical units, validated once into the fixed-point [`Settings`] that the
+//! sample path uses.
+//!
+//! # Design
+//! Everything a user sets is in SI or everyday units (Hz, m/s^2 per ADC LSB, counts per inch,
+//! seconds). [`Config::validate`] checks every field and derives the integer coefficients;
+//! a bad field gives a [`ConfigError`] naming it, and nothing that is running changes. The
+//! sample path never validates and never allocates.
+
+use core::fmt;
+
+use crate::calibration::Calibrator;
+use crate::integrator::Scheme;
+use crate::lowpass::Lowpass;
+use crate::readout::Readout;
+
+/// Lowest accepted sampling rate [Hz].
+pub const FS_MIN_HZ: u32 = 1;
+/// Highest accepted sampling rate [Hz]. Up to this rate a full-scale 12-bit input integrates
+/// for 24 h without saturating (see [`crate::integrator`]).
+pub const FS_MAX_HZ: u32 = 100_000;
+/// Lowest accepted low-pass cut-off as a fraction of the sampling rate, `fc / fs`.
+pub const FC_OVER_FS_MIN: f64 = 1e-6;
+/// Fewest samples a calibration window may hold.
+pub const CALIBRATION_SAMPLES_MIN: u32 = 16;
+/// Most samples a calibration window may hold (`2^24`: sums of squared 16-bit codes stay
+/// exact in `u64`).
+pub const CALIBRATION_SAMPLES_MAX: u32 = 1 << 24;
+/// Metres per inch, exactly.
+pub const M_PER_INCH: f64 = 0.0254;
+
+/// Tracker configuration in physical units. Build the running form with [`Config::validate`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Config {
+    /// Sampling rate of each axis [Hz], `FS_MIN_HZ..=FS_MAX_HZ`. Fixed by the ADC trigger
+    /// timer; the core never measures time itself.
+    pub fs_hz: u32,
+    /// Cut-off of the optional digital single-pole low-pass [Hz], or `None` for no filter.
+    /// Valid: `fs * 1e-6 <= fc < fs / 2`.
+    pub lowpass_fc_hz: Option<f64>,
+    /// Acceleration per ADC LSB [m/s^2], finite and `> 0` (an ADXL335 at 300 mV/g on a 12-bit
+    /// ratiometric ADC: `9.80665 * 10 / 4096 = 0.023942`).
+    pub m_s2_per_lsb: f64,
+    /// ADC resolution [bits], `1..=16`. Codes `0` and `2^bits - 1` are the rails: a
+    /// calibration window that touches them is rejected as clipped.
+    pub adc_bits: u8,
+    /// Mouse resolution [counts per inch], `>= 1`.
+    pub counts_per_inch: u32,
+    /// Double-integration scheme.
+    pub scheme: Scheme,
+    /// Length of the at-rest calibration window [s]; `round(calibration_s * fs)` must lie in
+    /// `CALIBRATION_SAMPLES_MIN..=CALIBRATION_SAMPLES_MAX`.
+    pub calibration_s: f64,
+    /// Largest per-sample rms noise accepted as "at rest" during calibration [m/s^2], finite
+    /// and `> 0`. A window noisier than this is motion and is rejected, not averaged in.
+    pub rest_noise_max_m_s2: f64,
+}
+
+impl Default for Config {
+    /// The Black Pill with an ADXL335 (REFERENCE (g)): 3 kHz, no digital filter (the sensor's
+    /// RC output filter is the paper's single pole), 12-bit ADC, 800 counts per inch, Euler,
+    /// 1 s calibration, at rest below 0.1 m/s^2 rms (10 mg: about 4x the ADXL335's own
+    /// 300 ug/sqrt(Hz) through a 50 Hz RC filter, 2.7 mg rms).
+    fn default() -> Self {
+        Self {
+            fs_hz: 3000,
+            lowpass_fc_hz: None,
+            m_s2_per_lsb: 9.806_65 * 10.0 / 4096.0,
+            adc_bits: 12,
+            counts_per_inch: 800,
+            scheme: Scheme::Euler,
+            calibration_s: 1.0,
+            rest_noise_max_m_s2: 0.1,
+        }
+    }
+}
+
+/// A [`Config`] field that failed validation, with the offending value where it is an integer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ConfigError {
+    /// `fs_hz` outside `FS_MIN_HZ..=FS_MAX_HZ`.
+    SampleRate {
+        /// The rejected rate [Hz].
+        fs_hz: u32,
+    },
+    /// `lowpass_fc_hz` not finite, or `fc / fs` outside `[1e-6, 0.5)`.
+    LowpassCutoff,
+    /// `m_s2_per_lsb` not finite or not `> 0`.
+    Scale,
+    /// `adc_bits` outside `1..=16`.
+    AdcBits {
+        /// The rejected resolution [bits].
+        adc_bits: u8,
+    },
+    /// `counts_per_inch` is zero, or together with `m_s2_per_lsb` and `fs_hz` it gives a
+    /// counts-per-integrator-unit ratio outside `[2^-63, 2^31)` (see [`crate::readout`]).
+    CountsPerInch {
+        /// The rejected resolution [counts/inch].
+        counts_per_inch: u32,
+    },
+    /// `calibration_s * fs_hz` is not finite or outside
+    /// `CALIBRATION_SAMPLES_MIN..=CALIBRATION_SAMPLES_MAX` samples.
+    CalibrationWindow,
+    /// `rest_noise_max_m_s2` is not finite, not `> 0`, or not below `2^23` ADC LSB.
+    RestNoise,
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::SampleRate { fs_hz } => write!(
+                f,
+                "fs_hz = {fs_hz}: the sampling rate must be {FS_MIN_HZ}..={FS_MAX_HZ} Hz"
+            ),
+            Self::LowpassCutoff => {
+                f.write_str("lowpass_fc_hz: the cut-off must satisfy 1e-6 * fs <= fc < fs / 2")
+            }
+            Self::Scale => f.write_str("m_s2_per_lsb: the scale must be finite and > 0"),
+            Self::AdcBits { adc_bits } => {
+                write!(f, "adc_bits = {adc_bits}: the ADC resolution must be 1..=16 bits")
+            }
+            Self::CountsPerInch { counts_per_inch } => write!(
+                f,
+                "counts_per_inch = {counts_per_inch}: must be >= 1 and give a read-out ratio in [2^-63, 2^31) counts per integrator unit"
+            ),
+            Self::CalibrationWindow => write!(
+                f,
+                "calibration_s: the window must hold {CALIBRATION_SAMPLES_MIN}..={CALIBRATION_SAMPLES_MAX} samples"
+            ),
+            Self::RestNoise => f.write_str(
+                "rest_noise_max_m_s2: the at-rest noise bound must be finite, > 0 and below 2^23 ADC LSB",
+            ),
+        }
+    }
+}
+
+impl Config {
+    /// Checks every field and derives the fixed-point coefficients.
+    ///
+    /// # Errors
+    /// The first invalid field, in declaration order, as a [`ConfigError`].
+    pub fn validate(&self) -> Result<Settings, ConfigError> {
+        if !(FS_MIN_HZ..=FS_MAX_HZ).contains(&self.fs_hz) {
+            return Err(ConfigError::SampleRate { fs_hz: self.fs_hz });
+        }
+        let fs = f64::from(self.fs_hz);
+        let lowpass = match self.lowpass_fc_hz {
+            None => None,
+            Some(fc) => Some(Lowpass::from_ratio(fc / fs).ok_or(ConfigError::LowpassCutoff)?),
+        };
+        if !(self.m_s2_per_lsb.is_finite() && self.m_s2_per_lsb > 0.0) {
+            return Err(ConfigError::Scale);
+        }
+        if !(1..=16).contains(&self.adc_bits) {
+            return Err(ConfigError::AdcBits {
+                adc_bits: self.adc_bits,
+            });
+        }
+        let cpi_error = ConfigError::CountsPerInch {
+            counts_per_inch: self.counts_per_inch,
+        };
+        if self.counts_per_inch == 0 {
+            return Err(cpi_error);
+        }
+        let metres_per_unit = self.m_s2_per_lsb / (Readout::POSITION_UNITS_PER_LSB_S2 * fs * fs);
+        let counts_per_unit = metres_per_unit * f64::from(self.counts_per_inch) / M_PER_INCH;
+        let readout = Readout::from_ratio(counts_per_unit).ok_or(cpi_error)?;
+        let window = self.calibration_s * fs;
+        if !(window.is_finite()
+            && window >= f64::from(CALIBRATION_SAMPLES_MIN) - 0.5
+            && window < f64::from(CALIBRATION_SAMPLES_MAX) + 0.5)
+        {
+            return Err(ConfigError::CalibrationWindow);
+        }
+        let window = crate::math::round_to_u64(window) as u32;
+        // The bound as a variance in LSB^2 with 16 fractional bits. Codes have at most 16 bits,
+        // so an rms bound of 2^23 LSB is already meaningless; below it the Q16 variance is
+        // under 2^62 and fits the calibrator's u64.
+        let rest = self.rest_noise_max_m_s2 / self.m_s2_per_lsb; // [LSB]
+        if !(rest.is_finite() && rest > 0.0 && rest < 8_388_608.0) {
+            return Err(ConfigError::RestNoise);
+        }
+        let var_q16 = rest * rest * 65_536.0;
+        let calibrator = Calibrator::new(
+            window,
+            crate::math::round_to_u64(var_q16).max(1),
+            self.adc_bits,
+        );
+        Ok(Settings {
+            fs_hz: self.fs_hz,
+            lowpass,
+            scheme: self.scheme,
+            readout,
+            calibrator,
+            metres_per_unit,
+            m_s2_per_lsb: self.m_s2_per_lsb,
+        })
+    }
+}
+
+/// A validated [`Config`]: the fixed-point coefficients of every stage. Cheap to copy; shared
+/// by all axes of a device.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    fs_hz: u32,
+    lowpass: Option<Lowpass>,
+    scheme: Scheme,
+    readout: Readout,
+    calibrator: Calibrator,
+    metres_per_unit: f64,
+    m_s2_per_lsb: f64,
+}
+
+impl Settings {
+    /// Sampling rate of each axis [Hz].
+    pub fn fs_hz(&self) -> u32 {
+        self.fs_hz
+    }
+    /// The digital low-pass, if configured.
+    pub fn lowpass(&self) -> Option<&Lowpass> {
+        self.lowpass.as_ref()
+    }
+    /// The low-pass coefficient `k = 1 - exp(-2 pi fc / fs)` in Q0.32, 0 without a filter.
+    pub fn lowpass_k_q32(&self) -> u32 {
+        self.lowpass.map_or(0, |l| l.k_q32())
+    }
+    /// The double-integration scheme.
+    pub fn scheme(&self) -> Scheme {
+        self.scheme
+    }
+    /// The position-to-counts read-out.
+    pub fn readout(&self) -> &Readout {
+        &self.readout
+    }
+    /// A fresh calibrator for one axis, with this configuration's window and motion bound.
+    pub fn calibrator(&self) -> Calibrator {
+        self.calibrator
+    }
+    /// Acceleration per ADC LSB [m/s^2].
+    pub fn m_s2_per_lsb(&self) -> f64 {
+        self.m_s2_per_lsb
+    }
+    /// Metres per unit of the integrator's position accumulator
+    /// ([`crate::IntegratorState::position`]):
+    /// `m_s2_per_lsb / (4 * 2^16 * fs^2)`. For host-side analysis; not used on the device.
+    pub fn metres_per_position_unit(&self) -> f64 {
+        self.metres_per_unit
+    }
+}

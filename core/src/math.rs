@@ -1,0 +1,139 @@
+//! Small exact helpers: integer square root, rounding shifts, and the float functions that
+//! configuration needs in a `no_std` crate (no `std`, no `libm`).
+//!
+//! Nothing here runs on the sample path except [`round_shr`].
+
+/// `round(x / 2^s)`, rounding half up (towards +inf), for `s` in `1..=62`.
+///
+/// Arithmetic shift alone would floor, and a floor is a bias of half an output LSB, which
+/// double integration turns into a parabola (REFERENCE (g)). Saturates instead of wrapping
+/// when `x` is within `2^(s-1)` of `i64::MAX`.
+#[inline(always)]
+pub(crate) const fn round_shr(x: i64, s: u32) -> i64 {
+    x.saturating_add(1 << (s - 1)) >> s
+}
+
+/// Floor of the square root of `n`.
+pub(crate) fn isqrt_u128(n: u128) -> u128 {
+    if n < 2 {
+        return n;
+    }
+    // Newton's iteration from an over-estimate decreases monotonically to floor(sqrt(n)).
+    let bits = 128 - n.leading_zeros();
+    let mut x: u128 = 1 << bits.div_ceil(2);
+    loop {
+        let y = (x + n / x) / 2;
+        if y >= x {
+            return x;
+        }
+        x = y;
+    }
+}
+
+/// `1 - exp(-x)` for `0 <= x <= 4` (in this crate `x = 2 pi fc / fs < pi`), to a few ulp.
+///
+/// Computed without `1 - exp(-x)` cancellation: the alternating Taylor series for `x <= 1`
+/// (terms fall by `x/n`, partial sums never cancel more than one digit), and
+/// `1 - 1/exp(x)` from the positive series above that (where the result is `>= 0.63`).
+pub(crate) fn neg_expm1(x: f64) -> f64 {
+    if x <= 1.0 {
+        // x - x^2/2! + x^3/3! - ..., Horner form from the 24th term down (x^25/25! < 1e-25).
+        let mut acc = 0.0;
+        let mut n = 24.0;
+        while n >= 1.0 {
+            acc = x / n * (1.0 - acc);
+            n -= 1.0;
+        }
+        acc
+    } else {
+        let mut term = 1.0;
+        let mut sum = 1.0;
+        let mut n = 1.0;
+        while n <= 40.0 {
+            term *= x / n;
+            sum += term;
+            n += 1.0;
+        }
+        1.0 - 1.0 / sum
+    }
+}
+
+/// `x * 2^e` exactly (for results in the normal range), without `std`.
+pub(crate) fn ldexp(mut x: f64, mut e: i32) -> f64 {
+    while e > 0 {
+        x *= 2.0;
+        e -= 1;
+    }
+    while e < 0 {
+        x *= 0.5;
+        e += 1;
+    }
+    x
+}
+
+/// Nearest integer to a finite `x` with `0 <= x < 2^63`, ties rounded up.
+pub(crate) fn round_to_u64(x: f64) -> u64 {
+    // `as` truncates; the fractional part of a float below 2^63 is exact in f64.
+    let t = x as u64;
+    if x - t as f64 >= 0.5 {
+        t + 1
+    } else {
+        t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn isqrt_is_floor_of_sqrt_at_squares_and_neighbours() {
+        for r in [
+            0u128,
+            1,
+            2,
+            3,
+            255,
+            65_535,
+            1 << 40,
+            (1 << 63) - 1,
+            u128::from(u64::MAX),
+        ] {
+            let sq = r * r;
+            assert_eq!(isqrt_u128(sq), r);
+            if sq > 0 {
+                assert_eq!(isqrt_u128(sq - 1), r - 1);
+            }
+            assert_eq!(isqrt_u128(sq + 2 * r), r); // (r+1)^2 - 1
+        }
+        assert_eq!(isqrt_u128(u128::MAX), u128::from(u64::MAX));
+    }
+
+    #[test]
+    fn round_shr_rounds_half_up_not_down() {
+        assert_eq!(round_shr(3, 1), 2); // 1.5 -> 2
+        assert_eq!(round_shr(-3, 1), -1); // -1.5 -> -1 (half up)
+        assert_eq!(round_shr(-5, 2), -1); // -1.25 -> -1
+        assert_eq!(round_shr(5, 2), 1); // 1.25 -> 1
+        assert_eq!(round_shr(i64::MAX, 16), i64::MAX >> 16); // saturates, no wrap
+    }
+
+    #[test]
+    fn neg_expm1_matches_its_series_at_tiny_x_and_known_values() {
+        // At x = 1e-9, 1 - e^-x = x - x^2/2 to far below f64 resolution.
+        let x = 1e-9;
+        assert!((neg_expm1(x) - (x - x * x / 2.0)).abs() <= 1e-24);
+        // 1 - e^-1 and 1 - e^-pi to 1e-15 (values from the exponential's definition).
+        assert!((neg_expm1(1.0) - 0.632_120_558_828_557_7).abs() < 1e-15);
+        assert!((neg_expm1(core::f64::consts::PI) - 0.956_786_081_736_227_6).abs() < 1e-15);
+    }
+
+    #[test]
+    fn ldexp_and_rounding_are_exact() {
+        assert_eq!(ldexp(3.0, 40), 3.0 * (1u64 << 40) as f64);
+        assert_eq!(ldexp(3.0, -2), 0.75);
+        assert_eq!(round_to_u64(2.5), 3);
+        assert_eq!(round_to_u64(2.499_999_999_999_999_6), 2);
+        assert_eq!(round_to_u64(0.0), 0);
+    }
+}

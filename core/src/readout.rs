@@ -1,0 +1,144 @@
+//! Read-out of the integrator's position into whole mouse counts, with the remainder carried.
+//!
+//! # Design
+//! One integrator position unit is `K` mouse counts,
+//! `K = LSB * cpi / (0.0254 * 4 * 2^16 * fs^2)` (see [`crate::integrator`] for the units of
+//! `Z`). `K` is held as `M / 2^P` with `M` normalised to `[2^31, 2^32)`, so the only scale
+//! error is `M`'s rounding, below `2^-32` relative. Each read-out adds `Z * M` to a carry in
+//! Q`P` counts, takes the nearest whole count (half up) and keeps the rest:
+//!
+//! ```text
+//! X = carry + Z M;   n = round(X / 2^P);   carry = X - n 2^P   (|carry| <= 2^(P-1))
+//! ```
+//!
+//! All of it is exact integer arithmetic, so the sum of every count ever taken is the true
+//! displacement `sum Z * M / 2^P` rounded to the nearest count: the cursor never drifts from
+//! the integrator by even one count, however often it is read. `n` is clamped to `i32`; what
+//! the clamp leaves stays in the carry and comes out in later read-outs.
+
+/// Position-to-counts scale `K = M / 2^P` (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Readout {
+    mult: u32,
+    shift: u32,
+}
+
+/// The carried remainder of one axis's read-out, in Q`P` counts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReadoutState {
+    carry: i128,
+}
+
+impl Readout {
+    /// Integrator position units per (m/s^2 per LSB) per s^2: `4 * 2^16`. Position in metres
+    /// is `Z * LSB / (POSITION_UNITS_PER_LSB_S2 * fs^2)`.
+    pub const POSITION_UNITS_PER_LSB_S2: f64 = 4.0 * 65_536.0;
+
+    /// The read-out for `counts_per_unit` mouse counts per integrator position unit, or `None`
+    /// unless `2^-63 <= counts_per_unit < 2^31`.
+    pub fn from_ratio(counts_per_unit: f64) -> Option<Self> {
+        const TWO_31: f64 = 2_147_483_648.0;
+        if !(counts_per_unit >= crate::math::ldexp(1.0, -63) && counts_per_unit < TWO_31) {
+            return None;
+        }
+        let mut shift = 0;
+        let mut m = counts_per_unit;
+        while m < TWO_31 {
+            m *= 2.0;
+            shift += 1;
+        }
+        // m in [2^31, 2^32), shift in 1..=94. Rounding may reach 2^32: renormalise.
+        let mut mult = crate::math::round_to_u64(m);
+        if mult == 1 << 32 {
+            mult = 1 << 31;
+            shift -= 1;
+        }
+        Some(Self {
+            mult: mult as u32,
+            shift,
+        })
+    }
+
+    /// The multiplier `M`, in `[2^31, 2^32)`.
+    pub const fn mult(&self) -> u32 {
+        self.mult
+    }
+
+    /// The shift `P`, in `1..=94`.
+    pub const fn shift(&self) -> u32 {
+        self.shift
+    }
+
+    /// The realised counts per position unit, `M / 2^P` (for host-side analysis).
+    pub fn counts_per_unit(&self) -> f64 {
+        crate::math::ldexp(f64::from(self.mult), -(self.shift as i32))
+    }
+
+    /// Converts the position `z` drained from an integrator into whole counts, carrying the
+    /// remainder in `state`. Saturates (never wraps) if `carry + z M` leaves `i128`, which no
+    /// documented run reaches.
+    pub fn take(&self, state: &mut ReadoutState, z: i128) -> i32 {
+        let zm = z.checked_mul(i128::from(self.mult)).unwrap_or(if z < 0 {
+            i128::MIN
+        } else {
+            i128::MAX
+        });
+        let x = state.carry.saturating_add(zm);
+        let n_full = x.saturating_add(1 << (self.shift - 1)) >> self.shift;
+        let n = n_full.clamp(i128::from(i32::MIN), i128::from(i32::MAX));
+        // |n 2^P| <= 2^125 and n has the sign of x with |n 2^P| <= |x| + 2^(P-1): exact.
+        state.carry = x - (n << self.shift);
+        n as i32
+    }
+}
+
+impl ReadoutState {
+    /// The remainder not yet delivered, in counts (for host-side analysis).
+    pub fn pending_counts(&self, readout: &Readout) -> f64 {
+        self.carry as f64 * crate::math::ldexp(1.0, -(readout.shift as i32))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ratio_is_normalised() {
+        let r = Readout::from_ratio(0.75).expect("in range");
+        assert_eq!((r.mult(), r.shift()), (3 << 30, 32));
+        assert_eq!(r.counts_per_unit(), 0.75);
+        assert!(Readout::from_ratio(2_147_483_648.0).is_none());
+        assert!(Readout::from_ratio(0.0).is_none());
+        assert!(Readout::from_ratio(f64::NAN).is_none());
+        assert!(Readout::from_ratio(crate::math::ldexp(1.0, -63)).is_some());
+    }
+
+    #[test]
+    fn remainder_is_carried_so_sums_never_drift() {
+        // 1/3 count per unit: three reads of one unit give 0, 1, 0 (0.33, 0.67 -> 1, 1.0).
+        let r = Readout::from_ratio(1.0 / 3.0).expect("in range");
+        let mut s = ReadoutState::default();
+        let got: [i32; 3] = core::array::from_fn(|_| r.take(&mut s, 1));
+        assert_eq!(got, [0, 1, 0]);
+        // A million reads of one unit sum to round(1e6 * M / 2^P).
+        let mut total = i64::from(got.iter().sum::<i32>());
+        for _ in 3..1_000_000 {
+            total += i64::from(r.take(&mut s, 1));
+        }
+        let exact = 1_000_000 * i128::from(r.mult());
+        let half = 1i128 << (r.shift() - 1);
+        assert_eq!(i128::from(total), (exact + half) >> r.shift());
+    }
+
+    #[test]
+    fn clamped_counts_stay_in_the_carry() {
+        let r = Readout::from_ratio(1.0).expect("in range");
+        let mut s = ReadoutState::default();
+        let big = 3 * i128::from(i32::MAX);
+        assert_eq!(r.take(&mut s, big), i32::MAX);
+        assert_eq!(r.take(&mut s, 0), i32::MAX);
+        assert_eq!(r.take(&mut s, 0), i32::MAX);
+        assert_eq!(r.take(&mut s, 0), 0);
+    }
+}

@@ -1,0 +1,323 @@
+//! Host tests of the composed pipeline: configuration, axis, tracker.
+
+use imu_core::{
+    AdcCode, Axis, CalibrationError, Config, ConfigError, Event, Lowpass, LowpassState, Phase,
+    Scheme, Tracker,
+};
+
+fn cfg() -> Config {
+    Config::default()
+}
+
+#[track_caller]
+fn rejects(config: Config, want: ConfigError) {
+    assert_eq!(config.validate().err(), Some(want));
+}
+
+/// Mouse counts for a constant acceleration of `lsb` m/s^2 integrated by Euler for `n`
+/// samples at `fs`, at 800 counts per inch: `lsb n (n + 1) / (2 fs^2) / 0.0254 * 800`.
+fn euler_counts(lsb: f64, n: f64, fs: f64) -> f64 {
+    lsb * n * (n + 1.0) / 2.0 / (fs * fs) / 0.0254 * 800.0
+}
+
+#[test]
+fn default_config_is_valid() {
+    let s = cfg().validate().expect("default is valid");
+    assert_eq!(s.fs_hz(), 3000);
+    assert_eq!(s.lowpass_k_q32(), 0);
+}
+
+#[test]
+fn each_bad_field_is_named() {
+    rejects(
+        Config { fs_hz: 0, ..cfg() },
+        ConfigError::SampleRate { fs_hz: 0 },
+    );
+    rejects(
+        Config {
+            fs_hz: 100_001,
+            ..cfg()
+        },
+        ConfigError::SampleRate { fs_hz: 100_001 },
+    );
+    for fc in [1500.0, 2000.0, 0.0, -1.0, 0.002, f64::NAN, f64::INFINITY] {
+        rejects(
+            Config {
+                lowpass_fc_hz: Some(fc),
+                ..cfg()
+            },
+            ConfigError::LowpassCutoff,
+        );
+    }
+    for s in [0.0, -0.02, f64::NAN, f64::INFINITY] {
+        rejects(
+            Config {
+                m_s2_per_lsb: s,
+                ..cfg()
+            },
+            ConfigError::Scale,
+        );
+    }
+    for b in [0, 17] {
+        rejects(
+            Config {
+                adc_bits: b,
+                ..cfg()
+            },
+            ConfigError::AdcBits { adc_bits: b },
+        );
+    }
+    rejects(
+        Config {
+            counts_per_inch: 0,
+            ..cfg()
+        },
+        ConfigError::CountsPerInch { counts_per_inch: 0 },
+    );
+    for t in [0.0, 0.005, 1e5, f64::NAN, -1.0] {
+        rejects(
+            Config {
+                calibration_s: t,
+                ..cfg()
+            },
+            ConfigError::CalibrationWindow,
+        );
+    }
+    for r in [0.0, -1.0, f64::NAN, 1e9] {
+        rejects(
+            Config {
+                rest_noise_max_m_s2: r,
+                ..cfg()
+            },
+            ConfigError::RestNoise,
+        );
+    }
+}
+
+#[test]
+fn errors_say_which_parameter() {
+    let msg = format!("{}", ConfigError::SampleRate { fs_hz: 0 });
+    assert!(msg.starts_with("fs_hz = 0"), "{msg}");
+    let msg = format!("{}", ConfigError::LowpassCutoff);
+    assert!(msg.starts_with("lowpass_fc_hz"), "{msg}");
+}
+
+#[test]
+fn cutoff_range_edges_are_accepted() {
+    for fc in [0.003, 1499.99] {
+        assert!(
+            Config {
+                lowpass_fc_hz: Some(fc),
+                ..cfg()
+            }
+            .validate()
+            .is_ok(),
+            "{fc}"
+        );
+    }
+}
+
+#[test]
+fn bad_reconfigure_leaves_tracker_untouched() {
+    let mut t = Tracker::new(&cfg()).expect("valid");
+    t.feed(&[[2048, 2048, 2048]; 3000]);
+    assert_eq!(t.phase(), Phase::Tracking);
+    let before = *t.settings();
+    let err = t.reconfigure(&Config { fs_hz: 0, ..cfg() });
+    assert_eq!(err, Err(ConfigError::SampleRate { fs_hz: 0 }));
+    assert_eq!(*t.settings(), before);
+    assert_eq!(t.phase(), Phase::Tracking);
+    t.reconfigure(&Config {
+        fs_hz: 1000,
+        ..cfg()
+    })
+    .expect("valid");
+    assert_eq!(
+        (t.settings().fs_hz(), t.phase()),
+        (1000, Phase::Calibrating)
+    );
+}
+
+/// A sample at rest with a symmetric +-1 LSB dither (0, +1, 0, -1) around `mid`.
+fn rest(i: usize, mid: u16) -> [u16; 3] {
+    let v = match i % 4 {
+        1 => mid + 1,
+        3 => mid - 1,
+        _ => mid,
+    };
+    [v, v, v]
+}
+
+#[test]
+fn tracker_calibrates_then_tracks() {
+    let mut t = Tracker::new(&cfg()).expect("valid");
+    let window: Vec<[u16; 3]> = (0..3000).map(|i| rest(i, 2048)).collect();
+    assert_eq!(t.feed(&window[..2999]), None);
+    assert_eq!(t.take_counts(), [0; 3]);
+    match t.feed(&window[2999..]) {
+        Some(Event::Calibrated(c)) => {
+            for axis in c {
+                assert_eq!(axis.bias_q16, 2048 << 16);
+                assert_eq!(axis.samples, 3000);
+                // Sample variance of 0, 1, 0, -1 repeated: 1500 / 2999 LSB^2, rms 0.70722.
+                let rms = axis.noise_rms_q16 as f64 / 65_536.0;
+                assert!((rms - (1500.0f64 / 2999.0).sqrt()).abs() < 2e-5, "{rms}");
+            }
+        }
+        other => panic!("expected calibration, got {other:?}"),
+    }
+    assert_eq!(t.phase(), Phase::Tracking);
+    // At rest the symmetric dither integrates to a bounded wobble: no counts.
+    t.feed(&window);
+    assert_eq!(t.take_counts(), [0; 3]);
+    assert_eq!(t.counters().samples, 6000);
+}
+
+#[test]
+fn motion_during_calibration_restarts_it() {
+    let mut t = Tracker::new(&cfg()).expect("valid");
+    let mut window: Vec<[u16; 3]> = (0..3000).map(|i| rest(i, 2048)).collect();
+    window[1500][1] = 2400; // a knock on Y: rms 6.4 LSB = 0.15 m/s^2 > 0.1 m/s^2
+    match t.feed(&window) {
+        Some(Event::Rejected {
+            axis: 1,
+            error: CalibrationError::Motion { .. },
+        }) => {}
+        other => panic!("expected rejection on Y, got {other:?}"),
+    }
+    assert_eq!(t.phase(), Phase::Calibrating);
+    assert_eq!(t.counters().rejected_windows, 1);
+    let window: Vec<[u16; 3]> = (0..3000).map(|i| rest(i, 2048)).collect();
+    assert!(matches!(t.feed(&window), Some(Event::Calibrated(_))));
+}
+
+#[test]
+fn constant_acceleration_moves_the_cursor_by_the_exact_count() {
+    // 1 LSB of constant acceleration on X for 1 s at 3 kHz, Euler: 11.975 mm = 471.5 counts.
+    let config = cfg();
+    let mut t = Tracker::new(&config).expect("valid");
+    t.feed(&[[2048; 3]; 3000]);
+    t.feed(&[[2049, 2048, 2048]; 3000]);
+    let exact = euler_counts(config.m_s2_per_lsb, 3000.0, 3000.0);
+    let [x, y, z] = t.take_counts();
+    assert_eq!((y, z), (0, 0));
+    assert_eq!(f64::from(x), exact.round(), "exact {exact}");
+}
+
+#[test]
+fn counts_taken_in_pieces_sum_to_the_rounded_total() {
+    let config = cfg();
+    let mut t = Tracker::new(&config).expect("valid");
+    t.feed(&[[2048; 3]; 3000]);
+    let mut total = [0i64; 2];
+    for _ in 0..3000 {
+        t.feed(&[[2049, 2047, 2048]]);
+        let [x, y, _] = t.take_counts();
+        total[0] += i64::from(x);
+        total[1] += i64::from(y);
+    }
+    let exact = euler_counts(config.m_s2_per_lsb, 3000.0, 3000.0);
+    assert_eq!(total[0] as f64, exact.round());
+    assert_eq!(total[1] as f64, (-exact).round());
+}
+
+#[test]
+fn lost_samples_are_held_so_time_stays_right() {
+    let config = cfg();
+    let mut a = Tracker::new(&config).expect("valid");
+    let mut b = Tracker::new(&config).expect("valid");
+    for t in [&mut a, &mut b] {
+        t.feed(&[[2048; 3]; 3000]);
+    }
+    a.feed(&[[2050, 2048, 2048]; 100]);
+    b.feed(&[[2050, 2048, 2048]; 40]);
+    b.lost(60);
+    assert_eq!(a.axes()[0].integrator(), b.axes()[0].integrator());
+    assert_eq!(b.counters().lost, 60);
+}
+
+#[test]
+fn recalibrate_stops_motion() {
+    let mut t = Tracker::new(&cfg()).expect("valid");
+    t.feed(&[[2048; 3]; 3000]);
+    t.feed(&[[2060, 2048, 2048]; 10]);
+    t.recalibrate();
+    assert_eq!(t.phase(), Phase::Calibrating);
+    assert_eq!(t.axes()[0].integrator().velocity(), 0);
+    assert_eq!(t.take_counts()[0], 0);
+}
+
+#[test]
+fn stuck_adc_rail_is_reported_as_clipping() {
+    for rail in [0u16, 4095] {
+        let mut t = Tracker::new(&cfg()).expect("valid");
+        let event = t.feed(&[[2048, rail, 2048]; 3000]);
+        assert_eq!(
+            event,
+            Some(Event::Rejected {
+                axis: 1,
+                error: CalibrationError::Clipped { code: rail }
+            })
+        );
+    }
+}
+
+#[test]
+fn lowpass_settles_exactly_for_every_allowed_ratio() {
+    // From rail to rail, and by one code, at cut-off ratios across the whole allowed range.
+    // Settling takes about ln(2^80 / 2^32) / k samples to the last Q32 unit plus at most
+    // 1 / k to creep through it: 60 / k is enough.
+    for ratio in [1e-6, 1e-5, 1e-3, 0.01, 0.1, 0.25, 0.4, 0.499_999] {
+        let lp = Lowpass::from_ratio(ratio).expect("in range");
+        let k = f64::from(lp.k_q32()) / 4_294_967_296.0;
+        let steps = (60.0 / k) as usize;
+        for (from, to) in [(0u16, 4095u16), (4095, 0), (65_535, 1), (1000, 1001)] {
+            let mut s = LowpassState::settled_q16(i64::from(from) << 16);
+            let mut y = 0;
+            for _ in 0..steps {
+                y = lp.process(&mut s, AdcCode(to));
+            }
+            assert_eq!(y, i64::from(to) << 16, "ratio {ratio}, {from} -> {to}");
+            assert_eq!(
+                s.y_q32(),
+                i64::from(to) << 32,
+                "ratio {ratio}, {from} -> {to}"
+            );
+        }
+    }
+}
+
+#[test]
+fn filtered_axis_at_its_bias_stays_exactly_still() {
+    let s = Config {
+        lowpass_fc_hz: Some(50.0),
+        ..cfg()
+    }
+    .validate()
+    .expect("valid");
+    let mut axis = Axis::new(2048 << 16);
+    for _ in 0..100_000 {
+        axis.update(&s, AdcCode(2048));
+    }
+    assert_eq!(axis.integrator().velocity(), 0);
+    assert_eq!(axis.integrator().position(), 0);
+}
+
+#[test]
+fn trapezoid_tracker_integrates_a_step_exactly() {
+    // The first tracked sample only primes the trapezoid; the next 3000 are steps with a
+    // constant 1 LSB: s = LSB (N^2 / 2) / fs^2 exactly.
+    let trap = Config {
+        scheme: Scheme::Trapezoid,
+        ..cfg()
+    };
+    let mut t = Tracker::new(&trap).expect("valid");
+    t.feed(&[[2048; 3]; 3000]);
+    t.feed(&[[2049, 2048, 2048]; 3001]);
+    let exact = trap.m_s2_per_lsb * 3000.0 * 3000.0 / 2.0 / 9e6 / 0.0254 * 800.0;
+    assert_eq!(
+        f64::from(t.take_counts()[0]),
+        exact.round(),
+        "exact {exact}"
+    );
+}

@@ -1,0 +1,2 @@
+//! The imu-mouse lab CLI (being built).
+fn main() {}
