@@ -1,1 +1,5 @@
-//! placeholder
+//! imu-mouse host side: the f64 reference formulas, f64 twins of the core's stages,
+//! simulated sensors, Monte Carlo statistics, and the `lab` CLI's commands.
+
+pub mod predict;
+pub mod reference;

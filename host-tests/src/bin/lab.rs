@@ -1,2 +1,86 @@
-//! The imu-mouse lab CLI (being built).
-fn main() {}
+//! The imu-mouse lab: `cargo lab <command>`. Run `cargo lab --help` for the commands.
+
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use host_tests::predict;
+
+#[derive(Parser)]
+#[command(
+    name = "lab",
+    about = "imu-mouse lab: inertial position error, predicted and measured"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// RMS position error predicted by the paper's laws and the exact finite-N results.
+    Predict(PredictArgs),
+}
+
+#[derive(Args)]
+struct PredictArgs {
+    /// Sampling rate [Hz].
+    #[arg(long)]
+    fs: f64,
+    /// Duration [s]; repeat or separate by commas for several. t * fs must be whole.
+    #[arg(
+        long = "t",
+        value_delimiter = ',',
+        required = true,
+        allow_negative_numbers = true
+    )]
+    t: Vec<f64>,
+    /// Per-sample white-noise std [m/s^2].
+    #[arg(long, allow_negative_numbers = true)]
+    sigma_d: Option<f64>,
+    /// One-sided noise density into a single-pole filter [m/s^2/sqrt(Hz)]; needs --fc.
+    #[arg(long, allow_negative_numbers = true)]
+    sigma_c: Option<f64>,
+    /// The single-pole filter's cut-off [Hz]; needs --sigma-c.
+    #[arg(long, allow_negative_numbers = true)]
+    fc: Option<f64>,
+    /// Constant acceleration bias [m/s^2].
+    #[arg(long, allow_negative_numbers = true)]
+    bias: Option<f64>,
+    /// Print a JSON array, one object per --t, instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Predict(a) => run_predict(a),
+    };
+    match result {
+        Ok(text) => {
+            println!("{text}");
+            ExitCode::SUCCESS
+        }
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_predict(a: PredictArgs) -> Result<String, String> {
+    let inputs = predict::Inputs {
+        fs: a.fs,
+        t: a.t,
+        sigma_d: a.sigma_d,
+        sigma_c: a.sigma_c,
+        fc: a.fc,
+        bias: a.bias,
+    };
+    let rows = predict::predict(&inputs).map_err(|e| e.to_string())?;
+    if a.json {
+        serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())
+    } else {
+        Ok(predict::table(&rows))
+    }
+}
