@@ -12,11 +12,15 @@
 //! - state: `y` in Q32 counts (`i64`, `0..=65535 * 2^32`) plus a remainder `r` that holds the
 //!   next 32 fractional bits, so the state is `y + r 2^-32` in Q32, i.e. 64 fractional bits.
 //!
-//! The update `y:r += k_q32 * (x 2^32 - y)` is exact integer arithmetic in Q64: nothing is
-//! rounded, nothing truncated, so there is no dead band. With a constant input the state moves
-//! monotonically towards it, never overshoots, and reaches it exactly (`y == x 2^32`), after
-//! which every update adds zero. The output is the state rounded half-up to Q16 counts, the
-//! integrator's input format; with a settled state it equals the input exactly.
+//! The update `y:r += k_q32 * (x 2^32 - y^)` is exact integer arithmetic in Q64, where
+//! `y^ = y + (r >= 2^31)` is the state rounded (half up) to Q32. So the recursion is exact up
+//! to using `y^` for `y`, an error in `(-2^-33, 2^-33]` LSB that is zero-mean (rounding, not
+//! truncation: a floor here would be a small constant bias, and a bias is a parabola). There
+//! is no dead band: with a constant input `x` the rounded state moves monotonically towards
+//! `x 2^32`, never passes it, and reaches it exactly, after which every update adds zero.
+//! The output is `y^` rounded half-up to Q16 counts, the integrator's input format; with a
+//! settled state it equals the input exactly. Output error against the exact recursion:
+//! `<= 2^-17 + 2^-32` LSB.
 
 use crate::math;
 use crate::AdcCode;
@@ -59,12 +63,13 @@ impl Lowpass {
     /// Filters one sample and returns the output in Q16 counts (`0..=65535 * 2^16`).
     #[inline]
     pub fn process(&self, state: &mut LowpassState, x: AdcCode) -> i64 {
-        let e = (i64::from(x.0) << 32) - state.y; // Q32, |e| < 2^48
-                                                  // Q32 * Q32 = Q64; plus the carried remainder. |p| < 2^80: exact in i128.
+        // Q32, |e| <= 2^48.
+        let e = (i64::from(x.0) << 32) - state.y_q32();
+        // Q32 * Q32 = Q64, plus the carried remainder: |p| < 2^81, exact in i128.
         let p = i128::from(e) * i128::from(self.k_q32) + i128::from(state.r);
-        state.y += (p >> 32) as i64; // |p >> 32| < 2^48: no overflow, cast exact
+        state.y += (p >> 32) as i64; // |p >> 32| < 2^49: no overflow, cast exact
         state.r = p as u32; // the low 32 bits: the exact remainder (p - (p >> 32 << 32))
-        math::round_shr(state.y, 16)
+        math::round_shr(state.y_q32(), 16)
     }
 }
 
@@ -85,9 +90,10 @@ impl LowpassState {
         }
     }
 
-    /// The state in Q32 counts (the remainder's 32 further bits left out).
+    /// The state rounded half-up to Q32 counts.
+    #[inline(always)]
     pub const fn y_q32(&self) -> i64 {
-        self.y
+        self.y + (self.r >> 31) as i64
     }
 }
 

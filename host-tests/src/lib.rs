@@ -1,6 +1,7 @@
 //! imu-mouse host side: the f64 reference formulas, f64 twins of the core's stages,
 //! simulated sensors, Monte Carlo statistics, and the `lab` CLI's commands.
 
+pub mod budget;
 pub mod montecarlo;
 pub mod predict;
 pub mod reference;

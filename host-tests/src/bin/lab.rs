@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use host_tests::predict;
+use host_tests::{budget, predict};
 
 #[derive(Parser)]
 #[command(
@@ -19,6 +19,18 @@ struct Cli {
 enum Command {
     /// RMS position error predicted by the paper's laws and the exact finite-N results.
     Predict(PredictArgs),
+    /// Fixed-point error of each core stage against its f64 twin, with derived bounds.
+    Budget(BudgetArgs),
+}
+
+#[derive(Args)]
+struct BudgetArgs {
+    /// Fewer samples (the test suite's size) and no 1 h pipeline run.
+    #[arg(long)]
+    quick: bool,
+    /// Print JSON rows instead of the Markdown table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args)]
@@ -55,6 +67,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Predict(a) => run_predict(a),
+        Command::Budget(a) => run_budget(&a),
     };
     match result {
         Ok(text) => {
@@ -82,5 +95,14 @@ fn run_predict(a: PredictArgs) -> Result<String, String> {
         serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())
     } else {
         Ok(predict::table(&rows))
+    }
+}
+
+fn run_budget(a: &BudgetArgs) -> Result<String, String> {
+    let rows = budget::all(a.quick);
+    if a.json {
+        serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())
+    } else {
+        Ok(budget::table(&rows))
     }
 }

@@ -1,0 +1,71 @@
+//! The fixed-point stages held to their f64 twins within the bounds the Q formats imply
+//! (derivations in `host_tests::budget`).
+
+use host_tests::budget::{self, Row};
+use imu_core::Scheme;
+
+/// Sampling slack on an RMS measured over `n` independent uniform errors: the relative
+/// standard error of an rms is `0.5 sqrt(0.8 / n)`; allow 3.29 of them (the project's
+/// 0.1 % two-sided critical value).
+fn rms_slack(n: u64) -> f64 {
+    1.0 + 3.29 * 0.5 * (0.8 / n as f64).sqrt()
+}
+
+#[track_caller]
+fn within(row: &Row) {
+    eprintln!(
+        "{}: max {:.3e} (bound {:.3e}), rms {:.3e} (expected {:?})",
+        row.stage, row.max_err, row.max_bound, row.rms_err, row.rms_bound
+    );
+    assert!(
+        row.max_err <= row.max_bound,
+        "{}: max error above bound",
+        row.stage
+    );
+}
+
+#[test]
+fn lowpass_output_is_within_half_a_q16_lsb_for_every_ratio() {
+    // The ratio range's two ends and the default device's 50 Hz at 3 kHz.
+    for ratio in [1e-6, 1e-3, 50.0 / 3000.0, 0.499_999] {
+        let row = budget::lowpass(ratio, 1_000_000, 1);
+        within(&row);
+        let expected = row.rms_bound.expect("random rounding");
+        assert!(
+            row.rms_err <= expected * rms_slack(row.samples),
+            "{}",
+            row.stage
+        );
+        // The rounding is really used, not avoided: the rms is at least half the uniform one.
+        assert!(row.rms_err >= 0.5 * expected, "{}", row.stage);
+    }
+}
+
+#[test]
+fn calibration_rounds_the_mean_once() {
+    for row in budget::calibration(200, 3000, 2) {
+        within(&row);
+    }
+}
+
+#[test]
+fn integrators_are_exact() {
+    for scheme in [Scheme::Euler, Scheme::Trapezoid] {
+        let row = budget::integrator(scheme, 1000, 3);
+        within(&row);
+        assert_eq!(row.max_err, 0.0);
+    }
+}
+
+#[test]
+fn readout_never_drifts_from_the_position() {
+    within(&budget::readout(30_000, 5));
+}
+
+#[test]
+fn pipeline_position_is_within_its_rounding_budget() {
+    for t in [1.0, 60.0] {
+        let row = budget::pipeline(t, 8, 6);
+        within(&row);
+    }
+}
