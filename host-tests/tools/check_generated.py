@@ -1,0 +1,36 @@
+"""CI check: the committed generated data is what its generators produce.
+
+- host-tests/data/reference_truth.csv == reference_truth.py's output, byte for byte;
+- the C3, C2, C1 arrays in host-tests/src/reference.rs == ar1_series.py's values.
+Run from the repository root with mpmath and sympy installed.
+"""
+import pathlib
+import re
+import subprocess
+import sys
+
+root = pathlib.Path(__file__).resolve().parents[2]
+tools = root / "host-tests" / "tools"
+
+
+def run(script):
+    return subprocess.run([sys.executable, str(tools / script)], check=True,
+                          capture_output=True, text=True).stdout
+
+
+def arrays(text):
+    out = {}
+    for name in ("C3", "C2", "C1"):
+        body = re.search(rf"const {name}: \[f64; \d+\] = \[(.*?)\];", text, re.S).group(1)
+        out[name] = [float(m) for m in re.findall(r"^\s*(-?[0-9.eE+-]+),", body, re.M)]
+    return out
+
+
+truth = (root / "host-tests" / "data" / "reference_truth.csv").read_text()
+if run("reference_truth.py") != truth:
+    sys.exit("reference_truth.csv differs from reference_truth.py's output")
+want = arrays(run("ar1_series.py"))
+got = arrays((root / "host-tests" / "src" / "reference.rs").read_text())
+if want != got:
+    sys.exit(f"series coefficients in reference.rs differ from ar1_series.py: {want} vs {got}")
+print("generated data: reference_truth.csv and the C3/C2/C1 series match their generators")
