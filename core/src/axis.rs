@@ -38,12 +38,13 @@ impl Axis {
         axis
     }
 
-    /// Sets the bias (Q16 counts, `0..=65535 * 2^16`) and settles the filter at it; motion
-    /// and read-out remainder are kept.
+    /// Sets the bias (Q16 counts, clamped to `0..=65535 * 2^16`, the codes' range) and settles
+    /// the filter at it; motion and read-out remainder are kept.
     pub fn set_bias_q16(&mut self, bias_q16: i64) {
+        let bias_q16 = bias_q16.clamp(0, 65_535 << 16);
         self.bias_q16 = bias_q16;
         self.lowpass = LowpassState::settled_q16(bias_q16);
-        self.last = AdcCode(crate::math::round_shr(bias_q16, 16).clamp(0, 65_535) as u16);
+        self.last = AdcCode(crate::math::round_shr(bias_q16, 16) as u16);
     }
 
     /// The bias subtracted from every sample [Q16 counts].

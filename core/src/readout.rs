@@ -47,11 +47,15 @@ impl Readout {
             m *= 2.0;
             shift += 1;
         }
-        // m in [2^31, 2^32), shift in 1..=94. Rounding may reach 2^32: renormalise.
+        // m in [2^31, 2^32), shift in 1..=94. Rounding may reach 2^32: renormalise, and
+        // refuse the one ratio (within 2^-2 of 2^31) that would then need shift 0.
         let mut mult = crate::math::round_to_u64(m);
         if mult == 1 << 32 {
             mult = 1 << 31;
             shift -= 1;
+        }
+        if shift == 0 {
+            return None;
         }
         Some(Self {
             mult: mult as u32,
@@ -112,6 +116,12 @@ mod tests {
         assert!(Readout::from_ratio(0.0).is_none());
         assert!(Readout::from_ratio(f64::NAN).is_none());
         assert!(Readout::from_ratio(crate::math::ldexp(1.0, -63)).is_some());
+        // Just below 2^31 rounds up to M = 2^32 with shift 1, i.e. 2^31 with shift 0: refused.
+        assert!(Readout::from_ratio(2_147_483_647.9).is_none());
+        assert_eq!(
+            Readout::from_ratio(2_147_483_647.0).map(|r| r.shift()),
+            Some(1)
+        );
     }
 
     #[test]

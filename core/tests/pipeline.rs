@@ -321,3 +321,32 @@ fn trapezoid_tracker_integrates_a_step_exactly() {
         "exact {exact}"
     );
 }
+
+#[test]
+fn out_of_range_bias_is_clamped_not_wrapped() {
+    let s = cfg().validate().expect("valid");
+    for (bias, held) in [(i64::MAX, 65_535u16), (-5, 0)] {
+        let mut axis = Axis::new(bias);
+        assert_eq!(axis.bias_q16(), i64::from(held) << 16);
+        axis.update(&s, AdcCode(held));
+        assert_eq!(axis.integrator().velocity(), 0);
+    }
+}
+
+#[test]
+fn readout_ratio_at_the_top_of_its_range_is_refused() {
+    // counts_per_inch so large that one position unit is ~2^31 counts: a configuration
+    // error, never a shift of 0 (which the read-out cannot use).
+    let huge = Config {
+        fs_hz: 1,
+        counts_per_inch: u32::MAX,
+        m_s2_per_lsb: 1e4, // 1e4 * 4.29e9 / (0.0254 * 2^18) = 6.4e9 counts per unit
+        ..cfg()
+    };
+    assert_eq!(
+        huge.validate().err(),
+        Some(ConfigError::CountsPerInch {
+            counts_per_inch: u32::MAX
+        })
+    );
+}

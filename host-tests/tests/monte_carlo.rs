@@ -176,6 +176,65 @@ fn rms_falls_as_one_over_sqrt_fs_at_fixed_t() {
 }
 
 #[test]
+fn dc_bias_grows_as_t_squared_exactly() {
+    // Eq (2) through the core, no noise: a bias of A whole codes gives, exactly,
+    // A T^2 / 2 with the trapezoid and A T^2 / 2 (1 + 1/N) with Euler (REFERENCE (c)).
+    // Doubling T multiplies the trapezoid's position by exactly 4: the T^2 law.
+    let fs = 100.0;
+    for (scheme, extra) in [(Scheme::Trapezoid, 1), (Scheme::Euler, 0)] {
+        let s = settings(100, None, scheme);
+        let lsb = s.m_s2_per_lsb();
+        for a in [1u16, 7, 300] {
+            let mut positions = vec![];
+            for n in [100u64, 200, 400] {
+                let t = trial(&s, BIAS, 0, n as usize + extra, || MID + a);
+                let want = match scheme {
+                    Scheme::Trapezoid => r::eq2_bias(f64::from(a) * lsb, n as f64 / fs),
+                    Scheme::Euler => r::euler_bias(f64::from(a) * lsb, fs, n),
+                };
+                assert!(
+                    (t.position_m / want - 1.0).abs() < 1e-14,
+                    "{scheme:?} A {a} N {n}"
+                );
+                positions.push(t.position_m);
+            }
+            if scheme == Scheme::Trapezoid {
+                assert!((positions[1] / positions[0] - 4.0).abs() < 1e-14);
+                assert!((positions[2] / positions[1] - 4.0).abs() < 1e-14);
+            }
+        }
+    }
+}
+
+#[test]
+fn random_bias_follows_eq2_through_the_trapezoid() {
+    // A bias drawn per trial (sd 3 LSB), dithered by 2 LSB of white noise, trapezoid,
+    // N = 400: E[s^2] = eq2(sd_A)^2 + trapezoid_white^2, the bias part 99.8 % of it.
+    let s = settings(100, None, Scheme::Trapezoid);
+    let lsb = s.m_s2_per_lsb();
+    let (n, fs) = (400u64, 100.0);
+    let (pos, _) = run(4000, 12, |rng| {
+        let a = 3.0 * normal(rng);
+        trial(&s, BIAS, 0, n as usize + 1, || {
+            ADC.code(f64::from(MID) + a + 2.0 * normal(rng))
+        })
+    });
+    let bias = r::eq2_bias(3.0 * lsb, n as f64 / fs);
+    let white = r::trapezoid_white(sigma_eff(2.0, lsb), fs, n);
+    holds(
+        "eq2 bias + white, trapezoid",
+        &pos,
+        (bias * bias + white * white).sqrt(),
+    );
+    // Control: a bias law growing as T^1.5 instead of T^2 (same value at T = 1 s).
+    fails(
+        "bias as T^1.5",
+        &pos,
+        3.0 * lsb * (n as f64 / fs).powf(1.5) / 2.0,
+    );
+}
+
+#[test]
 fn bias_plus_white_noise_euler_is_exact() {
     // A random bias per trial (sd 1.5 LSB, dithered by 2 LSB of white noise), N = 400:
     // E[s^2] = sd_A^2 (N (N+1) / 2)^2 / fs^4 + sigma_eff^2 N (N+1) (2N+1) / (6 fs^4).

@@ -151,3 +151,26 @@ fn eq32_large_t_limit_is_sigma_c_t15_over_2_sqrt2() {
     );
     assert!(e < 1e-6, "rel {e:e}");
 }
+
+#[test]
+fn reference_e_table_points() {
+    // REFERENCE (e)'s "B (truth)" column, printed to 7 significant digits: the stable form
+    // must reproduce each to the printed precision (half a unit in the 7th digit, 5e-7).
+    let table = [
+        (1e-9, 1.0, 5.000000e-1),
+        (1e-9, 2.0, 2.000000e0),
+        (1e-9, 1e3, 4.999998e5),
+        (1e-9, 1e6, 4.998334e11),
+        (1e-9, 1e9, 3.678794e17),
+        (1e-6, 1e1, 4.999984e1),
+        (1e-6, 1e4, 4.983375e7),
+        (1e-6, 1e9, 9.990000e14),
+        (1e-3, 1e1, 4.983541e1),
+        (1e-3, 1e9, 9.999991e11),
+        (1e-1, 1e9, 1.000833e10),
+    ];
+    for (alpha, n, b) in table {
+        let e = rel(r::eq32_b(alpha, n), b);
+        assert!(e < 5e-7, "alpha {alpha} N {n}: rel {e:e}");
+    }
+}
