@@ -8,8 +8,8 @@
 //! is `sqrt(mean(s^2) -+ 1.96 se)` (delta method). A test passes when `|z| < Z_CRIT`.
 
 /// Two-sided critical z for the Monte Carlo tests: 3.29 is a 0.1 % false-failure rate per
-/// test, i.e. about 1 % for the whole family of about ten to twelve checks (Bonferroni). Control rows,
-/// which apply a wrong law, must land beyond it.
+/// check, so at most 1.6 % for the sixteen checks of `tests/monte_carlo.rs` (Bonferroni).
+/// Control rows, which apply a wrong law, must land beyond it.
 pub const Z_CRIT: f64 = 3.29;
 
 /// Mean square of Monte Carlo trials.
