@@ -13,7 +13,9 @@
 //! ```
 //!
 //! [`Axis`] composes the stages for one axis, [`Tracker`] runs three axes through calibration
-//! and tracking. The physics and every error formula are in the project's REFERENCE.md
+//! and tracking. The device's other logic lives here too, so that it is tested on the host:
+//! [`hid`] (report descriptor, packing and scheduling), [`button`] (debounce, long press),
+//! [`ledger`] (lost-sample accounting) and [`indicator`] (LED patterns). The physics and every error formula are in the project's REFERENCE.md
 //! (Thong et al., Meas. Sci. Technol. 13 (2002) 1163).
 //!
 //! # Fixed-point formats
@@ -25,18 +27,26 @@
 #![forbid(unsafe_code)]
 
 pub mod axis;
+pub mod button;
 pub mod calibration;
 pub mod config;
+pub mod hid;
+pub mod indicator;
 pub mod integrator;
+pub mod ledger;
 pub mod lowpass;
 mod math;
 pub mod readout;
 pub mod tracker;
 
 pub use axis::Axis;
+pub use button::{ButtonEvent, Debouncer};
 pub use calibration::{Calibration, CalibrationError, Calibrator};
 pub use config::{Config, ConfigError, Settings};
+pub use hid::{MouseReport, Reporter};
+pub use indicator::Indicator;
 pub use integrator::{IntegratorState, Scheme};
+pub use ledger::{LedgerError, SampleLedger};
 pub use lowpass::{Lowpass, LowpassState};
 pub use readout::{Readout, ReadoutState};
 pub use tracker::{Counters, Event, Phase, Tracker, AXES};

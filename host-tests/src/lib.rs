@@ -2,6 +2,7 @@
 //! simulated sensors, Monte Carlo statistics, and the `lab` CLI's commands.
 
 pub mod budget;
+pub mod hid;
 pub mod montecarlo;
 pub mod predict;
 pub mod reference;

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use host_tests::{budget, predict};
+use host_tests::{budget, hid, predict};
 
 #[derive(Parser)]
 #[command(
@@ -21,6 +21,24 @@ enum Command {
     Predict(PredictArgs),
     /// Fixed-point error of each core stage against its f64 twin, with derived bounds.
     Budget(BudgetArgs),
+    /// The USB HID report descriptor and the reports the device sends for a motion.
+    Hid(HidArgs),
+}
+
+#[derive(Args)]
+struct HidArgs {
+    /// Motion to the right [counts].
+    #[arg(long, allow_negative_numbers = true)]
+    dx: i64,
+    /// Motion downwards [counts] (HID convention).
+    #[arg(long, allow_negative_numbers = true)]
+    dy: i64,
+    /// Buttons held: 1 left, 2 right, 4 middle, summed.
+    #[arg(long, default_value_t = 0)]
+    buttons: u32,
+    /// Print `{"descriptor_hex": .., "reports_hex": [..]}` instead of the listing.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args)]
@@ -68,6 +86,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Predict(a) => run_predict(a),
         Command::Budget(a) => run_budget(&a),
+        Command::Hid(a) => run_hid(&a),
     };
     match result {
         Ok(text) => {
@@ -104,5 +123,14 @@ fn run_budget(a: &BudgetArgs) -> Result<String, String> {
         serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())
     } else {
         Ok(budget::table(&rows))
+    }
+}
+
+fn run_hid(a: &HidArgs) -> Result<String, String> {
+    let wire = hid::wire(a.dx, a.dy, a.buttons).map_err(|e| e.to_string())?;
+    if a.json {
+        serde_json::to_string(&wire).map_err(|e| e.to_string())
+    } else {
+        Ok(hid::listing(&wire))
     }
 }

@@ -1,0 +1,208 @@
+//! USB HID mouse: the report descriptor the device presents, the report's byte layout, and
+//! the scheduling of accumulated motion into reports.
+//!
+//! # Design
+//! The descriptor is a plain relative mouse (HID 1.11 appendix E style): 3 buttons, 5 bits of
+//! padding, X, Y and wheel as signed bytes in `-127..=127`, no report ID; 4-byte reports.
+//! The host (`cargo lab hid`) uses the same constants, so it shows exactly what the device
+//! sends.
+//!
+//! [`Reporter`] holds the counts that the tracker has produced and the host has not yet
+//! received. [`Reporter::pending`] proposes the next report; only after the USB stack
+//! accepted it does [`Reporter::sent`] subtract what it carried. If the push fails (the host
+//! has not read the last report yet), nothing is lost: the same motion is proposed again,
+//! together with whatever arrived since. A report can carry at most 127 counts per axis; a
+//! larger motion is scaled down with both axes by the same factor, so the report points the
+//! way the hand moved, and the rest is carried into later reports. The sum of all reports
+//! equals the sum of all motion, exactly.
+
+/// The HID report descriptor (52 bytes).
+pub const MOUSE_REPORT_DESCRIPTOR: [u8; 52] = [
+    0x05, 0x01, // Usage Page (Generic Desktop)
+    0x09, 0x02, // Usage (Mouse)
+    0xA1, 0x01, // Collection (Application)
+    0x09, 0x01, //   Usage (Pointer)
+    0xA1, 0x00, //   Collection (Physical)
+    0x05, 0x09, //     Usage Page (Button)
+    0x19, 0x01, //     Usage Minimum (Button 1)
+    0x29, 0x03, //     Usage Maximum (Button 3)
+    0x15, 0x00, //     Logical Minimum (0)
+    0x25, 0x01, //     Logical Maximum (1)
+    0x95, 0x03, //     Report Count (3)
+    0x75, 0x01, //     Report Size (1)
+    0x81, 0x02, //     Input (Data, Variable, Absolute): buttons
+    0x95, 0x01, //     Report Count (1)
+    0x75, 0x05, //     Report Size (5)
+    0x81, 0x03, //     Input (Constant, Variable, Absolute): padding
+    0x05, 0x01, //     Usage Page (Generic Desktop)
+    0x09, 0x30, //     Usage (X)
+    0x09, 0x31, //     Usage (Y)
+    0x09, 0x38, //     Usage (Wheel)
+    0x15, 0x81, //     Logical Minimum (-127)
+    0x25, 0x7F, //     Logical Maximum (127)
+    0x75, 0x08, //     Report Size (8)
+    0x95, 0x03, //     Report Count (3)
+    0x81, 0x06, //     Input (Data, Variable, Relative): X, Y, wheel
+    0xC0, //       End Collection
+    0xC0, //     End Collection
+];
+
+/// Length of one input report [bytes].
+pub const REPORT_LEN: usize = 4;
+
+/// Largest motion one report carries per axis [counts] (the descriptor's logical maximum).
+pub const MAX_COUNTS_PER_REPORT: i32 = 127;
+
+/// Button bits of a report.
+pub mod buttons {
+    /// Left button (button 1).
+    pub const LEFT: u8 = 1 << 0;
+    /// Right button (button 2).
+    pub const RIGHT: u8 = 1 << 1;
+    /// Middle button (button 3).
+    pub const MIDDLE: u8 = 1 << 2;
+    /// All buttons the descriptor declares.
+    pub const ALL: u8 = LEFT | RIGHT | MIDDLE;
+}
+
+/// One mouse input report.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct MouseReport {
+    /// Buttons held ([`buttons`] bits; others are ignored).
+    pub buttons: u8,
+    /// Motion to the right [counts], `-127..=127`.
+    pub x: i8,
+    /// Motion downwards (HID convention) [counts], `-127..=127`.
+    pub y: i8,
+    /// Wheel [detents], `-127..=127`; always 0 from this device.
+    pub wheel: i8,
+}
+
+impl MouseReport {
+    /// The report as the bytes on the wire.
+    pub const fn to_bytes(&self) -> [u8; REPORT_LEN] {
+        [
+            self.buttons & buttons::ALL,
+            self.x as u8,
+            self.y as u8,
+            self.wheel as u8,
+        ]
+    }
+}
+
+/// Accumulated motion and buttons not yet delivered to the host.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Reporter {
+    dx: i64,
+    dy: i64,
+    buttons: u8,
+    sent_buttons: u8,
+    reports: u32,
+}
+
+impl Reporter {
+    /// Adds motion [counts] (right, down). Saturates at `i64` limits, which no real motion
+    /// reaches.
+    pub fn add_motion(&mut self, dx: i32, dy: i32) {
+        self.dx = self.dx.saturating_add(i64::from(dx));
+        self.dy = self.dy.saturating_add(i64::from(dy));
+    }
+
+    /// Sets the buttons held now ([`buttons`] bits).
+    pub fn set_buttons(&mut self, held: u8) {
+        self.buttons = held & buttons::ALL;
+    }
+
+    /// Drops motion not yet delivered (the host is not listening: suspended or not yet
+    /// configured; delivering it later would be a jump). Buttons are kept.
+    pub fn discard_motion(&mut self) {
+        self.dx = 0;
+        self.dy = 0;
+    }
+
+    /// Motion not yet delivered [counts] (right, down).
+    pub const fn undelivered(&self) -> (i64, i64) {
+        (self.dx, self.dy)
+    }
+
+    /// Reports accepted by the USB stack so far.
+    pub const fn reports(&self) -> u32 {
+        self.reports
+    }
+
+    /// The next report to send, or `None` when there is no motion and no button change.
+    pub fn pending(&self) -> Option<MouseReport> {
+        if self.dx == 0 && self.dy == 0 && self.buttons == self.sent_buttons {
+            return None;
+        }
+        let (x, y) = clamp_keeping_direction(self.dx, self.dy);
+        Some(MouseReport {
+            buttons: self.buttons,
+            x,
+            y,
+            wheel: 0,
+        })
+    }
+
+    /// Records that `report` (from [`Self::pending`]) was accepted by the USB stack: its
+    /// motion is no longer owed.
+    pub fn sent(&mut self, report: &MouseReport) {
+        self.dx -= i64::from(report.x);
+        self.dy -= i64::from(report.y);
+        self.sent_buttons = report.buttons;
+        self.reports = self.reports.wrapping_add(1);
+    }
+}
+
+/// `(dx, dy)` scaled by one common factor so that neither exceeds 127 counts, each rounded
+/// half away from zero; unchanged when both already fit.
+fn clamp_keeping_direction(dx: i64, dy: i64) -> (i8, i8) {
+    let max = dx.unsigned_abs().max(dy.unsigned_abs());
+    let limit = MAX_COUNTS_PER_REPORT as u64;
+    if max <= limit {
+        return (dx as i8, dy as i8); // |dx|, |dy| <= 127
+    }
+    let scale = |v: i64| -> i8 {
+        // round(|v| 127 / max) with the sign of v; |v| <= max so the result is <= 127.
+        let mag = (u128::from(v.unsigned_abs()) * u128::from(limit) * 2 + u128::from(max))
+            / (2 * u128::from(max));
+        if v < 0 {
+            -(mag as i8)
+        } else {
+            mag as i8
+        }
+    };
+    (scale(dx), scale(dy))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn descriptor_declares_a_four_byte_report() {
+        // 3 + 5 bits of buttons and padding, then 3 x 8 bits.
+        assert_eq!(MOUSE_REPORT_DESCRIPTOR.len(), 52);
+        assert_eq!(REPORT_LEN * 8, 3 + 5 + 3 * 8);
+    }
+
+    #[test]
+    fn bytes_are_twos_complement() {
+        let r = MouseReport {
+            buttons: 0xFF,
+            x: -1,
+            y: 127,
+            wheel: -127,
+        };
+        assert_eq!(r.to_bytes(), [0x07, 0xFF, 0x7F, 0x81]);
+    }
+
+    #[test]
+    fn clamp_keeps_direction_and_sign() {
+        assert_eq!(clamp_keeping_direction(300, 100), (127, 42)); // 42.33
+        assert_eq!(clamp_keeping_direction(-300, 150), (-127, 64)); // 63.5 -> 64
+        assert_eq!(clamp_keeping_direction(5, -127), (5, -127));
+        assert_eq!(clamp_keeping_direction(i64::MIN, 0), (-127, 0));
+    }
+}

@@ -1,0 +1,114 @@
+//! The report scheduler under random motion and random USB refusals.
+
+use imu_core::hid::{buttons, MouseReport, Reporter, MAX_COUNTS_PER_REPORT};
+
+/// A small deterministic generator (SplitMix64) for test inputs.
+struct Gen(u64);
+impl Gen {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn range(&mut self, lo: i32, hi: i32) -> i32 {
+        lo + (self.next() % (hi - lo + 1) as u64) as i32
+    }
+}
+
+#[test]
+fn every_count_arrives_even_when_pushes_fail() {
+    let mut g = Gen(7);
+    let mut r = Reporter::default();
+    let (mut moved, mut received) = ([0i64; 2], [0i64; 2]);
+    for _ in 0..200_000 {
+        if g.next() % 3 == 0 {
+            let (dx, dy) = (g.range(-900, 900), g.range(-900, 900));
+            r.add_motion(dx, dy);
+            moved[0] += i64::from(dx);
+            moved[1] += i64::from(dy);
+        }
+        if let Some(rep) = r.pending() {
+            // The host takes the report only two times in three (WouldBlock otherwise).
+            if g.next() % 3 != 0 {
+                r.sent(&rep);
+                received[0] += i64::from(rep.x);
+                received[1] += i64::from(rep.y);
+            }
+        }
+    }
+    while let Some(rep) = r.pending() {
+        r.sent(&rep);
+        received[0] += i64::from(rep.x);
+        received[1] += i64::from(rep.y);
+    }
+    assert_eq!(moved, received);
+    assert_eq!(r.undelivered(), (0, 0));
+}
+
+#[test]
+fn clamped_reports_point_the_way_the_hand_moved() {
+    // A clamped report has its larger axis at exactly 127 and only the smaller one rounded
+    // (by at most 0.5 count), so its direction is within 0.5 / 127 rad (0.23 degrees) of the
+    // motion owed: d(theta) = x d(y) / (x^2 + y^2) <= 0.5 * 127 / 127^2.
+    let mut g = Gen(11);
+    for _ in 0..20_000 {
+        let mut r = Reporter::default();
+        let (dx, dy) = (g.range(-100_000, 100_000), g.range(-100_000, 100_000));
+        r.add_motion(dx, dy);
+        let rep = r.pending().expect("motion pending");
+        assert!(i32::from(rep.x).abs() <= MAX_COUNTS_PER_REPORT);
+        assert!(i32::from(rep.y).abs() <= MAX_COUNTS_PER_REPORT);
+        if dx == 0 && dy == 0 {
+            continue;
+        }
+        let want = f64::from(dy).atan2(f64::from(dx));
+        let got = f64::from(rep.y).atan2(f64::from(rep.x));
+        let diff = (want - got)
+            .abs()
+            .min(2.0 * std::f64::consts::PI - (want - got).abs());
+        assert!(
+            diff <= 0.5 / 127.0 + 1e-12,
+            "({dx}, {dy}) -> {rep:?}: {diff} rad"
+        );
+        // The larger axis is full scale whenever the motion needs clamping.
+        if dx.abs().max(dy.abs()) > 127 {
+            assert_eq!(i32::from(rep.x).abs().max(i32::from(rep.y).abs()), 127);
+        }
+    }
+}
+
+#[test]
+fn button_changes_are_reported_without_motion_and_idle_sends_nothing() {
+    let mut r = Reporter::default();
+    assert_eq!(r.pending(), None);
+    r.set_buttons(buttons::LEFT);
+    let rep = r.pending().expect("press reported");
+    assert_eq!(
+        rep,
+        MouseReport {
+            buttons: buttons::LEFT,
+            ..Default::default()
+        }
+    );
+    r.sent(&rep);
+    assert_eq!(r.pending(), None); // held, nothing new
+    r.add_motion(3, -2);
+    assert_eq!(
+        r.pending().map(|p| (p.buttons, p.x, p.y)),
+        Some((buttons::LEFT, 3, -2))
+    );
+    r.set_buttons(0);
+    assert_eq!(r.pending().map(|p| p.buttons), Some(0));
+}
+
+#[test]
+fn discarded_motion_is_gone_but_buttons_stay() {
+    let mut r = Reporter::default();
+    r.add_motion(500, 500);
+    r.set_buttons(buttons::LEFT);
+    r.discard_motion();
+    let rep = r.pending().expect("button still owed");
+    assert_eq!((rep.x, rep.y, rep.buttons), (0, 0, buttons::LEFT));
+}
