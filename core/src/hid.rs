@@ -121,6 +121,14 @@ impl Reporter {
         self.dy = 0;
     }
 
+    /// The host reset or re-enumerated the device: motion owed is dropped (see
+    /// [`Self::discard_motion`]) and the host is assumed to know no buttons, so held buttons
+    /// are reported again.
+    pub fn host_reset(&mut self) {
+        self.discard_motion();
+        self.sent_buttons = 0;
+    }
+
     /// Motion not yet delivered [counts] (right, down).
     pub const fn undelivered(&self) -> (i64, i64) {
         (self.dx, self.dy)

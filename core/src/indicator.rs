@@ -24,18 +24,49 @@ pub enum Indicator {
     Suspended,
 }
 
+/// The last calibration outcome, as far as the LED cares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LastCalibration {
+    /// None yet, or the last one succeeded.
+    Fine,
+    /// The last window was rejected for motion, `ms` milliseconds ago.
+    Moved {
+        /// Time since the rejection [ms].
+        ms: u32,
+    },
+    /// The last window touched an ADC rail.
+    Clipped,
+}
+
 impl Indicator {
     /// How long [`Indicator::Rejected`] is shown before going back to calibrating [ms].
     pub const REJECTED_MS: u32 = 1000;
 
+    /// What to show: USB state first (a suspended device must stay dark), then the tracker's
+    /// phase and its last calibration outcome.
+    pub const fn choose(usb_configured: bool, tracking: bool, last: LastCalibration) -> Self {
+        if !usb_configured {
+            return Self::Suspended;
+        }
+        if tracking {
+            return Self::Tracking;
+        }
+        match last {
+            LastCalibration::Clipped => Self::Fault,
+            LastCalibration::Moved { ms } if ms < Self::REJECTED_MS => Self::Rejected,
+            _ => Self::Calibrating,
+        }
+    }
+
     /// Whether the LED is lit at time `t_ms` [ms] (any epoch; patterns repeat).
     pub const fn lit(self, t_ms: u32) -> bool {
         match self {
-            Self::Calibrating => (t_ms / 125) % 2 == 0,
-            Self::Rejected => (t_ms / 50) % 2 == 0,
+            Self::Calibrating => (t_ms / 125).is_multiple_of(2),
+            Self::Rejected => (t_ms / 50).is_multiple_of(2),
             Self::Fault => {
                 let phase = t_ms % 2000;
-                phase < 600 && (phase / 100) % 2 == 0
+                phase < 600 && (phase / 100).is_multiple_of(2)
             }
             Self::Tracking => true,
             Self::Suspended => false,
@@ -49,6 +80,23 @@ mod tests {
 
     fn on_ms(ind: Indicator, period: u32) -> u32 {
         (0..period).filter(|&t| ind.lit(t)).count() as u32
+    }
+
+    #[test]
+    fn choice_puts_usb_first_then_phase_then_last_outcome() {
+        use LastCalibration::*;
+        assert_eq!(Indicator::choose(false, true, Fine), Indicator::Suspended);
+        assert_eq!(Indicator::choose(true, true, Clipped), Indicator::Tracking);
+        assert_eq!(Indicator::choose(true, false, Clipped), Indicator::Fault);
+        assert_eq!(
+            Indicator::choose(true, false, Moved { ms: 999 }),
+            Indicator::Rejected
+        );
+        assert_eq!(
+            Indicator::choose(true, false, Moved { ms: 1000 }),
+            Indicator::Calibrating
+        );
+        assert_eq!(Indicator::choose(true, false, Fine), Indicator::Calibrating);
     }
 
     #[test]

@@ -66,7 +66,7 @@ impl SampleLedger {
     /// # Errors
     /// [`LedgerError::SampleRate`] unless `fs_hz` divides `cycles_hz`.
     pub const fn new(cycles_hz: u32, fs_hz: u32) -> Result<Self, LedgerError> {
-        if fs_hz == 0 || cycles_hz % fs_hz != 0 {
+        if fs_hz == 0 || !cycles_hz.is_multiple_of(fs_hz) {
             return Err(LedgerError::SampleRate { fs_hz, cycles_hz });
         }
         Ok(Self {
@@ -109,6 +109,14 @@ impl SampleLedger {
         lost
     }
 
+    /// Whether no good block has arrived for more than `max_samples` sample periods before
+    /// cycle count `now`: the sampling has stopped (ADC or DMA overrun, or a transfer error)
+    /// and must be restarted. `false` before the first block.
+    pub fn stalled(&self, now: u32, max_samples: u32) -> bool {
+        self.last_good
+            .is_some_and(|last| now.wrapping_sub(last) / self.cycles_per_sample > max_samples)
+    }
+
     /// Running totals.
     pub const fn counters(&self) -> LedgerCounters {
         self.counters
@@ -143,5 +151,15 @@ mod tests {
         assert_eq!(l.counters().lost, 7);
         assert_eq!(l.counters().restarts, 2);
         assert_eq!(l.counters().samples, 3);
+    }
+
+    #[test]
+    fn stall_is_more_than_the_allowed_sample_periods_without_a_block() {
+        let mut l = SampleLedger::new(96_000_000, 3000).expect("divides");
+        assert!(!l.stalled(1 << 31, 15)); // not started yet
+        l.block(1000, 3);
+        assert!(!l.stalled(1000 + 15 * 32_000, 15));
+        assert!(!l.stalled(1000 + 16 * 32_000 - 1, 15));
+        assert!(l.stalled(1000 + 16 * 32_000, 15));
     }
 }

@@ -44,7 +44,7 @@ pub use button::{ButtonEvent, Debouncer};
 pub use calibration::{Calibration, CalibrationError, Calibrator};
 pub use config::{Config, ConfigError, Settings};
 pub use hid::{MouseReport, Reporter};
-pub use indicator::Indicator;
+pub use indicator::{Indicator, LastCalibration};
 pub use integrator::{IntegratorState, Scheme};
 pub use ledger::{LedgerError, SampleLedger};
 pub use lowpass::{Lowpass, LowpassState};

@@ -23,7 +23,7 @@ fn every_count_arrives_even_when_pushes_fail() {
     let mut r = Reporter::default();
     let (mut moved, mut received) = ([0i64; 2], [0i64; 2]);
     for _ in 0..200_000 {
-        if g.next() % 3 == 0 {
+        if g.next().is_multiple_of(3) {
             let (dx, dy) = (g.range(-900, 900), g.range(-900, 900));
             r.add_motion(dx, dy);
             moved[0] += i64::from(dx);
@@ -31,7 +31,7 @@ fn every_count_arrives_even_when_pushes_fail() {
         }
         if let Some(rep) = r.pending() {
             // The host takes the report only two times in three (WouldBlock otherwise).
-            if g.next() % 3 != 0 {
+            if !g.next().is_multiple_of(3) {
                 r.sent(&rep);
                 received[0] += i64::from(rep.x);
                 received[1] += i64::from(rep.y);
@@ -111,4 +111,16 @@ fn discarded_motion_is_gone_but_buttons_stay() {
     r.discard_motion();
     let rep = r.pending().expect("button still owed");
     assert_eq!((rep.x, rep.y, rep.buttons), (0, 0, buttons::LEFT));
+}
+
+#[test]
+fn host_reset_resends_held_buttons_and_drops_motion() {
+    let mut r = Reporter::default();
+    r.set_buttons(buttons::RIGHT);
+    let rep = r.pending().expect("press");
+    r.sent(&rep);
+    r.add_motion(40, 0);
+    r.host_reset();
+    let rep = r.pending().expect("buttons re-sent after reset");
+    assert_eq!((rep.buttons, rep.x, rep.y), (buttons::RIGHT, 0, 0));
 }

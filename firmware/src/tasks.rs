@@ -1,0 +1,122 @@
+//! What the RTIC tasks do, as plain functions over their resources, so that each task body
+//! in `main.rs` is a few lines. Every decision here is made by `imu_core` (tested on the
+//! host); this module only connects it to the hardware and the logs.
+
+use imu_core::{
+    ButtonEvent, CalibrationError, Event, Indicator, LastCalibration, Phase, Reporter, Tracker,
+};
+
+use crate::sampling::{Outcome, Sampler};
+use crate::usb::Mouse;
+
+/// State shared with the LED: the last calibration outcome and when it happened [ms].
+#[derive(Clone, Copy)]
+pub struct Status {
+    /// The last calibration outcome.
+    pub last: Event,
+    /// When it happened (monotonic ms), or `None` before the first window ends.
+    pub at_ms: Option<u32>,
+}
+
+/// DMA interrupt: hands a full block to the tracker, or accounts for lost samples.
+/// Returns the calibration event of the block, if one ended.
+pub fn on_dma(sampler: &mut Sampler, tracker: &mut Tracker, now_cycles: u32) -> Option<Event> {
+    let mut event = None;
+    match sampler.on_dma(now_cycles, |block| event = tracker.feed(block)) {
+        Outcome::Restarted(lost) => on_restart(tracker, lost),
+        Outcome::Block | Outcome::Idle => {}
+    }
+    event
+}
+
+/// Accounts for a sampling restart.
+pub fn on_restart(tracker: &mut Tracker, lost: u32) {
+    tracker.lost(lost);
+    defmt::warn!("sampling restarted after an overrun: {} samples lost", lost);
+}
+
+/// Logs a calibration outcome in physical units.
+pub fn log_event(event: &Event, m_s2_per_lsb: f32) {
+    match event {
+        Event::Calibrated(axes) => {
+            for (name, c) in ["x", "y", "z"].iter().zip(axes) {
+                let bias_lsb = c.bias_q16 as f32 / 65_536.0;
+                let rms_lsb = c.noise_rms_q16 as f32 / 65_536.0;
+                defmt::info!(
+                    "calibrated {}: bias {} LSB ({} m/s^2), noise {} m/s^2 rms over {} samples",
+                    name,
+                    bias_lsb,
+                    bias_lsb * m_s2_per_lsb,
+                    rms_lsb * m_s2_per_lsb,
+                    c.samples
+                );
+            }
+        }
+        Event::Rejected { axis, error } => {
+            defmt::warn!(
+                "calibration rejected on axis {}: {}; keep still",
+                axis,
+                error
+            )
+        }
+    }
+}
+
+/// What the LED should show.
+pub fn indicator(
+    tracker: &Tracker,
+    status: &Status,
+    usb_configured: bool,
+    now_ms: u32,
+) -> Indicator {
+    let last = match (status.last, status.at_ms) {
+        (
+            Event::Rejected {
+                error: CalibrationError::Clipped { .. },
+                ..
+            },
+            Some(_),
+        ) => LastCalibration::Clipped,
+        (Event::Rejected { .. }, Some(at)) => LastCalibration::Moved {
+            ms: now_ms.wrapping_sub(at),
+        },
+        _ => LastCalibration::Fine,
+    };
+    Indicator::choose(usb_configured, tracker.phase() == Phase::Tracking, last)
+}
+
+/// A debounced KEY event: left button state, and recalibration on a long press.
+pub fn on_button(event: ButtonEvent, buttons: &mut u8, tracker: &mut Tracker) {
+    match event {
+        ButtonEvent::Pressed => *buttons = imu_core::hid::buttons::LEFT,
+        ButtonEvent::Released => *buttons = 0,
+        ButtonEvent::LongPress => {
+            tracker.recalibrate();
+            defmt::info!("KEY held: recalibrating, keep still");
+        }
+    }
+}
+
+/// USB interrupt: moves the tracker's counts into the reporter and services the device.
+pub fn on_usb(tracker: &mut Tracker, mouse: &mut Mouse, reporter: &mut Reporter, buttons: u8) {
+    let (dx, dy) = crate::board::to_screen(tracker.take_counts());
+    reporter.add_motion(dx, dy);
+    reporter.set_buttons(buttons);
+    mouse.service(reporter);
+}
+
+/// The periodic counter log.
+pub fn log_counters(tracker: &Tracker, sampler: &Sampler, reporter: &Reporter, mouse: &Mouse) {
+    let t = tracker.counters();
+    let l = sampler.ledger().counters();
+    defmt::info!(
+        "samples {} lost {} restarts {} rejected windows {} reports {} drops {} usb {}",
+        t.samples,
+        t.lost,
+        l.restarts,
+        t.rejected_windows,
+        reporter.reports(),
+        mouse.drops(),
+        mouse.configured()
+    );
+}
