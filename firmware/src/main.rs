@@ -199,13 +199,10 @@ mod app {
 
     /// The USB peripheral needs service, or the DMA task has fresh motion.
     #[task(binds = OTG_FS, priority = 2, shared = [tracker, mouse, reporter, buttons])]
-    fn usb(cx: usb::Context) {
-        let buttons = {
-            let mut b = cx.shared.buttons;
-            b.lock(|b| *b)
-        };
-        (cx.shared.tracker, cx.shared.mouse, cx.shared.reporter)
-            .lock(|t, m, r| tasks::on_usb(t, m, r, buttons));
+    fn usb(mut cx: usb::Context) {
+        let buttons = cx.shared.buttons.lock(|b| *b);
+        let counts = cx.shared.tracker.lock(|t| t.take_counts());
+        (cx.shared.mouse, cx.shared.reporter).lock(|m, r| tasks::on_usb(counts, m, r, buttons));
     }
 
     /// Every millisecond: KEY, stalled sampling, LED, logs, watchdog.
@@ -229,14 +226,15 @@ mod app {
             let shown = (&mut cx.shared.tracker, &mut cx.shared.status)
                 .lock(|t, st| tasks::indicator(t, st, configured, now_ms));
             cx.local.led.set_state((!shown.lit(now_ms)).into()); // PC13 LED lights when low
-            if now_ms % board::LOG_INTERVAL_MS == 0 {
-                (
-                    &mut cx.shared.tracker,
-                    &mut cx.shared.sampler,
-                    &mut cx.shared.reporter,
-                    &mut cx.shared.mouse,
-                )
-                    .lock(|t, s, r, m| tasks::log_counters(t, s, r, m));
+            if now_ms.is_multiple_of(board::LOG_INTERVAL_MS) {
+                let snapshot = tasks::Snapshot {
+                    tracker: cx.shared.tracker.lock(|t| t.counters()),
+                    restarts: cx.shared.sampler.lock(|s| s.ledger().counters().restarts),
+                    reports: cx.shared.reporter.lock(|r| r.reports()),
+                    drops: cx.shared.mouse.lock(|m| m.drops()),
+                    usb: configured,
+                };
+                tasks::log_counters(&snapshot);
             }
             cx.local.watchdog.feed();
         }

@@ -97,26 +97,40 @@ pub fn on_button(event: ButtonEvent, buttons: &mut u8, tracker: &mut Tracker) {
     }
 }
 
-/// USB interrupt: moves the tracker's counts into the reporter and services the device.
-pub fn on_usb(tracker: &mut Tracker, mouse: &mut Mouse, reporter: &mut Reporter, buttons: u8) {
-    let (dx, dy) = crate::board::to_screen(tracker.take_counts());
+/// USB interrupt: adds the tracker's fresh counts `[x, y, z]` to the reporter and services
+/// the device. (The counts are taken under the tracker's lock by the caller; the USB poll
+/// itself runs without it, so the DMA task is never held up by USB.)
+pub fn on_usb(counts: [i32; 3], mouse: &mut Mouse, reporter: &mut Reporter, buttons: u8) {
+    let (dx, dy) = crate::board::to_screen(counts);
     reporter.add_motion(dx, dy);
     reporter.set_buttons(buttons);
     mouse.service(reporter);
 }
 
+/// A snapshot of every counter, taken under short locks and logged outside them.
+pub struct Snapshot {
+    /// The tracker's totals.
+    pub tracker: imu_core::Counters,
+    /// Sampling restarts.
+    pub restarts: u32,
+    /// Reports accepted by the USB stack.
+    pub reports: u32,
+    /// Reports refused for a reason other than "busy".
+    pub drops: u32,
+    /// Whether the host has configured the device.
+    pub usb: bool,
+}
+
 /// The periodic counter log.
-pub fn log_counters(tracker: &Tracker, sampler: &Sampler, reporter: &Reporter, mouse: &Mouse) {
-    let t = tracker.counters();
-    let l = sampler.ledger().counters();
+pub fn log_counters(s: &Snapshot) {
     defmt::info!(
         "samples {} lost {} restarts {} rejected windows {} reports {} drops {} usb {}",
-        t.samples,
-        t.lost,
-        l.restarts,
-        t.rejected_windows,
-        reporter.reports(),
-        mouse.drops(),
-        mouse.configured()
+        s.tracker.samples,
+        s.tracker.lost,
+        s.restarts,
+        s.tracker.rejected_windows,
+        s.reports,
+        s.drops,
+        s.usb
     );
 }
