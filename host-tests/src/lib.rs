@@ -4,8 +4,11 @@
 pub mod budget;
 pub mod hid;
 pub mod montecarlo;
+pub mod plot;
 pub mod predict;
 pub mod reference;
+pub mod reproduce;
+pub mod scene;
 pub mod sim;
 pub mod stats;
 pub mod twin;

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use host_tests::{budget, hid, predict};
+use host_tests::{budget, hid, predict, reproduce};
 
 #[derive(Parser)]
 #[command(
@@ -23,6 +23,27 @@ enum Command {
     Budget(BudgetArgs),
     /// The USB HID report descriptor and the reports the device sends for a motion.
     Hid(HidArgs),
+    /// The paper's laws by Monte Carlo through the real core: table, plots, JSON.
+    Reproduce(ReproduceArgs),
+}
+
+#[derive(Args)]
+struct ReproduceArgs {
+    /// CI-sized run: 1000 trials per sweep instead of 10 000, the same rows.
+    #[arg(long)]
+    quick: bool,
+    /// Trials per sweep (overrides --quick).
+    #[arg(long)]
+    trials: Option<usize>,
+    /// Seed of the whole run.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Directory for the SVG plots.
+    #[arg(long, default_value = "target/lab/reproduce")]
+    out: std::path::PathBuf,
+    /// Print `{"rows": [..], "plots": [..], "trials": ..}` instead of the table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args)]
@@ -87,6 +108,7 @@ fn main() -> ExitCode {
         Command::Predict(a) => run_predict(a),
         Command::Budget(a) => run_budget(&a),
         Command::Hid(a) => run_hid(&a),
+        Command::Reproduce(a) => run_reproduce(&a),
     };
     match result {
         Ok(text) => {
@@ -133,4 +155,24 @@ fn run_hid(a: &HidArgs) -> Result<String, String> {
     } else {
         Ok(hid::listing(&wire))
     }
+}
+
+fn run_reproduce(a: &ReproduceArgs) -> Result<String, String> {
+    let trials = a.trials.unwrap_or(if a.quick { 1000 } else { 10_000 });
+    if trials < 100 {
+        return Err(format!("--trials {trials}: at least 100, or the normal approximation behind the z-scores fails"));
+    }
+    let progress = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let report = reproduce::reproduce(trials, a.seed, Some(&a.out), progress)?;
+    let bad = report.rows.iter().filter(|r| !r.pass).count();
+    let text = if a.json {
+        serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?
+    } else {
+        reproduce::table(&report)
+    };
+    if bad > 0 {
+        println!("{text}");
+        return Err(format!("{bad} rows did not come out as expected"));
+    }
+    Ok(text)
 }
