@@ -65,6 +65,13 @@ pub mod buttons {
     pub const ALL: u8 = LEFT | RIGHT | MIDDLE;
 }
 
+/// Maps the tracker's counts `[x, y, z]` to HID motion (right, down) for a sensor mounted
+/// with its X axis to the right and its Y axis pointing away from the user: screen-down is
+/// sensor `-Y`; Z is not reported.
+pub const fn screen_motion(counts: [i32; 3]) -> (i32, i32) {
+    (counts[0], counts[1].saturating_neg())
+}
+
 /// One mouse input report.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -204,6 +211,12 @@ mod tests {
             wheel: -127,
         };
         assert_eq!(r.to_bytes(), [0x07, 0xFF, 0x7F, 0x81]);
+    }
+
+    #[test]
+    fn screen_motion_maps_sensor_y_away_to_cursor_up() {
+        assert_eq!(screen_motion([3, 5, 7]), (3, -5));
+        assert_eq!(screen_motion([0, i32::MIN, 0]), (0, i32::MAX));
     }
 
     #[test]

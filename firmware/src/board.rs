@@ -99,9 +99,3 @@ pub fn tracker_config() -> Config {
         rest_noise_max_m_s2: 0.1,
     }
 }
-
-/// Maps the tracker's axis counts `[x, y, z]` to HID motion (right, down): the sensor's X
-/// points right and its Y away from the user, so screen-down is sensor `-Y`.
-pub const fn to_screen(counts: [i32; 3]) -> (i32, i32) {
-    (counts[0], counts[1].saturating_neg())
-}

@@ -101,7 +101,7 @@ pub fn on_button(event: ButtonEvent, buttons: &mut u8, tracker: &mut Tracker) {
 /// the device. (The counts are taken under the tracker's lock by the caller; the USB poll
 /// itself runs without it, so the DMA task is never held up by USB.)
 pub fn on_usb(counts: [i32; 3], mouse: &mut Mouse, reporter: &mut Reporter, buttons: u8) {
-    let (dx, dy) = crate::board::to_screen(counts);
+    let (dx, dy) = imu_core::hid::screen_motion(counts);
     reporter.add_motion(dx, dy);
     reporter.set_buttons(buttons);
     mouse.service(reporter);

@@ -184,6 +184,81 @@ impl Run<'_> {
     }
 }
 
+impl Scene {
+    /// `seconds` of `[x, y, z]` codes: X is this scene; Y and Z are the same sensor at rest
+    /// (the scene without its strokes), each axis with its own random stream from `seed`.
+    pub fn three_axes(&self, seconds: f64, seed: u64) -> Vec<[u16; 3]> {
+        let n = (seconds * self.fs).round() as usize;
+        let rest = Scene {
+            sources: self
+                .sources
+                .iter()
+                .filter(|s| !matches!(s, Source::Stroke { .. }))
+                .cloned()
+                .collect(),
+            ..self.clone()
+        };
+        let mut rngs: Vec<SimRng> = (0..3)
+            .map(|k| sim::rng(seed.wrapping_mul(3).wrapping_add(k)))
+            .collect();
+        let mut runs: Vec<Run<'_>> = [self, &rest, &rest]
+            .iter()
+            .zip(rngs.iter_mut())
+            .map(|(sc, r)| sc.start(r))
+            .collect();
+        (0..n)
+            .map(|_| {
+                let mut s = [0u16; 3];
+                for (k, (run, rng)) in runs.iter_mut().zip(rngs.iter_mut()).enumerate() {
+                    s[k] = run.next_code(rng);
+                }
+                s
+            })
+            .collect()
+    }
+
+    /// Per-sample rms of the scene's noise after the ADC [m/s^2]: white and filtered noise
+    /// (eq 31) plus the ADC's LSB^2/12; biases and strokes are not noise.
+    pub fn noise_rms_m_s2(&self) -> f64 {
+        let var: f64 = self
+            .sources
+            .iter()
+            .map(|s| match *s {
+                Source::White { sigma_d } => sigma_d * sigma_d,
+                Source::Filtered { sigma_c, fc } => {
+                    sigma_c * sigma_c * std::f64::consts::PI * fc / 2.0
+                }
+                _ => 0.0,
+            })
+            .sum();
+        (var + self.adc.m_s2_per_lsb.powi(2) / 12.0).sqrt()
+    }
+
+    /// The device configuration for this scene's sensor: its rate, scale and ADC, and an
+    /// at-rest bound of 4x its own noise (the default's margin for an ADXL335: 0.1 m/s^2
+    /// against 0.026 m/s^2); everything else the default.
+    pub fn config(&self) -> imu_core::Config {
+        imu_core::Config {
+            fs_hz: self.fs as u32,
+            m_s2_per_lsb: self.adc.m_s2_per_lsb,
+            adc_bits: self.adc.bits,
+            rest_noise_max_m_s2: 4.0 * self.noise_rms_m_s2(),
+            ..imu_core::Config::default()
+        }
+    }
+
+    /// The total distance of this scene's strokes [m] (the true displacement along X).
+    pub fn stroke_distance_m(&self) -> f64 {
+        self.sources
+            .iter()
+            .map(|s| match s {
+                Source::Stroke { distance_m, .. } => *distance_m,
+                _ => 0.0,
+            })
+            .sum()
+    }
+}
+
 /// Acceleration of a minimum-jerk stroke of `d` [m] over `dur` [s] at time `t` into it.
 pub fn min_jerk_accel(t: f64, dur: f64, d: f64) -> f64 {
     if t < 0.0 || t > dur {

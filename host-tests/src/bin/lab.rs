@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use host_tests::{budget, hid, predict, reproduce};
+use host_tests::{budget, hid, predict, recording, reproduce, scene, track};
 
 #[derive(Parser)]
 #[command(
@@ -25,6 +25,50 @@ enum Command {
     Hid(HidArgs),
     /// The paper's laws by Monte Carlo through the real core: table, plots, JSON.
     Reproduce(ReproduceArgs),
+    /// One simulated scene through the whole device: the cursor's track and what it sends.
+    Simulate(SimulateArgs),
+    /// A recorded trace (CSV of ADC codes) through the whole device.
+    Replay(ReplayArgs),
+}
+
+#[derive(Args)]
+struct SimulateArgs {
+    /// Scene name (an unknown name lists them).
+    #[arg(long)]
+    scene: String,
+    /// Length [s], including the 1 s calibration at the start.
+    #[arg(long, default_value_t = 5.0)]
+    seconds: f64,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Interval of the printed track [s].
+    #[arg(long, default_value_t = 0.5)]
+    every: f64,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct ReplayArgs {
+    /// The recording (format: `cargo lab replay --help` and the README).
+    file: std::path::PathBuf,
+    /// Sampling rate [Hz], if the file does not say.
+    #[arg(long)]
+    fs: Option<f64>,
+    /// Acceleration per ADC code [m/s^2] (default: ADXL335 on a 12-bit ratiometric ADC).
+    #[arg(long, default_value_t = scene::ADXL335_LSB)]
+    m_s2_per_lsb: f64,
+    /// ADC resolution [bits].
+    #[arg(long, default_value_t = 12)]
+    adc_bits: u8,
+    /// Interval of the printed track [s].
+    #[arg(long, default_value_t = 0.5)]
+    every: f64,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args)]
@@ -109,6 +153,8 @@ fn main() -> ExitCode {
         Command::Budget(a) => run_budget(&a),
         Command::Hid(a) => run_hid(&a),
         Command::Reproduce(a) => run_reproduce(&a),
+        Command::Simulate(a) => run_simulate(&a),
+        Command::Replay(a) => run_replay(&a),
     };
     match result {
         Ok(text) => {
@@ -175,4 +221,63 @@ fn run_reproduce(a: &ReproduceArgs) -> Result<String, String> {
         return Err(format!("{bad} rows did not come out as expected"));
     }
     Ok(text)
+}
+
+fn positive(name: &str, v: f64) -> Result<f64, String> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("--{name} {v}: must be a finite number > 0"))
+    }
+}
+
+fn show_track(t: &track::Track, json: bool, header: String) -> Result<String, String> {
+    if json {
+        serde_json::to_string_pretty(t).map_err(|e| e.to_string())
+    } else {
+        Ok(header + &track::table(t))
+    }
+}
+
+fn run_simulate(a: &SimulateArgs) -> Result<String, String> {
+    let scenes = scene::catalogue();
+    let Some(sc) = scenes.iter().find(|s| s.name == a.scene) else {
+        let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
+        return Err(format!(
+            "--scene {}: unknown; the scenes are {}",
+            a.scene,
+            names.join(", ")
+        ));
+    };
+    let seconds = positive("seconds", a.seconds)?;
+    let every = positive("every", a.every)?;
+    let config = sc.config();
+    let t =
+        track::run(&config, sc.three_axes(seconds, a.seed), every).map_err(|e| e.to_string())?;
+    let mut header = format!("scene {}: {}\n", sc.name, sc.about);
+    let d = sc.stroke_distance_m();
+    if d != 0.0 {
+        header += &format!(
+            "true motion: {:.1} mm right = {:.1} counts at {} cpi\n",
+            d * 1e3,
+            d / 0.0254 * f64::from(config.counts_per_inch),
+            config.counts_per_inch
+        );
+    }
+    show_track(&t, a.json, header)
+}
+
+fn run_replay(a: &ReplayArgs) -> Result<String, String> {
+    let text =
+        std::fs::read_to_string(&a.file).map_err(|e| format!("{}: {e}", a.file.display()))?;
+    let rec = recording::parse(&text, a.fs).map_err(|e| format!("{}: {e}", a.file.display()))?;
+    let every = positive("every", a.every)?;
+    let config = imu_core::Config {
+        fs_hz: rec.fs,
+        m_s2_per_lsb: a.m_s2_per_lsb,
+        adc_bits: a.adc_bits,
+        ..imu_core::Config::default()
+    };
+    let t = track::run(&config, rec.samples, every).map_err(|e| e.to_string())?;
+    show_track(&t, a.json, format!("{}\n", a.file.display()))
 }

@@ -1,0 +1,260 @@
+//! Reading a recorded trace for `cargo lab replay`.
+//!
+//! # Format
+//! ```text
+//! # comments and blank lines are skipped anywhere
+//! fs,3000          <- optional: the sampling rate [Hz], before the header
+//! n,x,y,z          <- header: first column `n` (sample index) or `t` (time [s])
+//! 0,2048,2051,2457 <- X, Y, Z as ADC codes, integers 0..=65535
+//! 1,2049,2050,2456
+//! ```
+//! The sampling rate comes from `--fs`, else the `fs,` line, else the `t` column's mean
+//! step; two sources that disagree are an error. Sample indices must run on without gaps
+//! (a gap is lost time, and lost time is a position error); times must increase with a
+//! step within 1 % of the mean. Every problem is reported with its line number.
+
+use std::fmt;
+
+/// A recorded trace.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Recording {
+    /// Sampling rate [Hz] (whole).
+    pub fs: u32,
+    /// `[x, y, z]` codes in order.
+    pub samples: Vec<[u16; 3]>,
+}
+
+/// What is wrong with a file, and where (1-based line numbers).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordingError {
+    /// The line, or 0 for the file as a whole.
+    pub line: usize,
+    /// The problem.
+    pub problem: String,
+}
+
+impl fmt::Display for RecordingError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}", self.problem)
+        } else {
+            write!(f, "line {}: {}", self.line, self.problem)
+        }
+    }
+}
+
+fn err<T>(line: usize, problem: impl Into<String>) -> Result<T, RecordingError> {
+    Err(RecordingError {
+        line,
+        problem: problem.into(),
+    })
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Clock {
+    Index,
+    Time,
+}
+
+/// Parses a recording; `fs_arg` is `--fs`, if given.
+///
+/// # Errors
+/// The first problem, with its line.
+pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingError> {
+    let mut fs_line: Option<f64> = None;
+    let mut clock = None;
+    let mut samples = vec![];
+    let mut first_stamp: Option<(usize, f64)> = None;
+    let mut last_stamp: Option<f64> = None;
+    let mut steps: Vec<(usize, f64)> = vec![];
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let l = raw.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = l.split(',').map(str::trim).collect();
+        let Some(clk) = clock else {
+            if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") {
+                match fields[1].parse::<f64>() {
+                    Ok(v) if v.is_finite() && v > 0.0 => fs_line = Some(v),
+                    _ => {
+                        return err(
+                            line,
+                            format!(
+                                "`fs,{}`: the sampling rate must be a number > 0 Hz",
+                                fields[1]
+                            ),
+                        )
+                    }
+                }
+                continue;
+            }
+            let names: Vec<String> = fields.iter().map(|f| f.to_ascii_lowercase()).collect();
+            clock = match names.iter().map(String::as_str).collect::<Vec<_>>()[..] {
+                ["n", "x", "y", "z"] => Some(Clock::Index),
+                ["t", "x", "y", "z"] => Some(Clock::Time),
+                _ => {
+                    return err(
+                        line,
+                        format!("expected the header `n,x,y,z` or `t,x,y,z`, found `{l}`"),
+                    )
+                }
+            };
+            continue;
+        };
+        if fields.len() != 4 {
+            return err(line, format!("expected 4 fields, found {}", fields.len()));
+        }
+        let stamp: f64 = match fields[0].parse::<f64>() {
+            Ok(v) if v.is_finite() => v,
+            _ => return err(line, format!("`{}` is not a number", fields[0])),
+        };
+        if clk == Clock::Index {
+            let want = first_stamp.map_or(stamp, |(_, f)| f + samples.len() as f64);
+            if stamp != stamp.trunc() || stamp < 0.0 {
+                return err(
+                    line,
+                    format!("sample index `{}` is not a whole number >= 0", fields[0]),
+                );
+            }
+            if stamp != want {
+                return err(
+                    line,
+                    format!(
+                        "sample index jumps from {} to {stamp}: {} samples missing",
+                        want - 1.0,
+                        stamp - want
+                    ),
+                );
+            }
+        } else if let Some(prev) = last_stamp {
+            if stamp <= prev {
+                return err(
+                    line,
+                    format!("time {stamp} s does not increase (previous {prev} s)"),
+                );
+            }
+            steps.push((line, stamp - prev));
+        }
+        first_stamp.get_or_insert((line, stamp));
+        last_stamp = Some(stamp);
+        let mut s = [0u16; 3];
+        for (k, f) in fields[1..].iter().enumerate() {
+            s[k] = f.parse::<u16>().or_else(|_| {
+                err(
+                    line,
+                    format!(
+                        "{} = `{f}` is not an ADC code (a whole number 0..=65535)",
+                        ["x", "y", "z"][k]
+                    ),
+                )
+            })?;
+        }
+        samples.push(s);
+    }
+    if clock.is_none() {
+        return err(0, "no header: expected `n,x,y,z` or `t,x,y,z`");
+    }
+    if samples.is_empty() {
+        return err(0, "no samples after the header");
+    }
+    let fs_time = if clock == Some(Clock::Time) && !steps.is_empty() {
+        let mean = steps.iter().map(|s| s.1).sum::<f64>() / steps.len() as f64;
+        if let Some(&(line, dt)) = steps.iter().find(|s| (s.1 - mean).abs() > 0.01 * mean) {
+            return err(line, format!("time step {dt} s differs from the mean {mean} s by more than 1 %: a gap or jitter"));
+        }
+        Some(1.0 / mean)
+    } else {
+        None
+    };
+    let sources = [
+        ("--fs", fs_arg),
+        ("the fs line", fs_line),
+        ("the t column", fs_time),
+    ];
+    let given: Vec<(&str, f64)> = sources
+        .iter()
+        .filter_map(|(n, v)| v.map(|v| (*n, v)))
+        .collect();
+    let Some(&(name, fs)) = given.first() else {
+        return err(
+            0,
+            "no sampling rate: give --fs, an `fs,<Hz>` line, or a `t` column",
+        );
+    };
+    if let Some(&(other, v)) = given.iter().find(|(_, v)| (v - fs).abs() > 1e-6 * fs) {
+        return err(0, format!("{name} says {fs} Hz but {other} says {v} Hz"));
+    }
+    let whole = fs.round();
+    if (fs - whole).abs() > 1e-6 * fs || !(1.0..=100_000.0).contains(&whole) {
+        return err(
+            0,
+            format!("sampling rate {fs} Hz: must be a whole number of Hz, 1..=100000"),
+        );
+    }
+    Ok(Recording {
+        fs: whole as u32,
+        samples,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[track_caller]
+    fn fails(text: &str, fs: Option<f64>, line: usize, words: &str) {
+        let e = parse(text, fs).expect_err("malformed");
+        assert_eq!(e.line, line, "{e}");
+        assert!(e.problem.contains(words), "{e}");
+    }
+
+    #[test]
+    fn reads_index_and_time_files() {
+        let r = parse("# x\nfs,1000\nn,x,y,z\n0,1,2,3\n1,4,5,6\n", None).expect("valid");
+        assert_eq!((r.fs, r.samples), (1000, vec![[1, 2, 3], [4, 5, 6]]));
+        let r = parse("t,x,y,z\n0.000,1,2,3\n0.001,1,2,3\n0.002,1,2,3\n", None).expect("valid");
+        assert_eq!(r.fs, 1000);
+    }
+
+    #[test]
+    fn malformed_files_name_the_line() {
+        fails("", None, 0, "no header");
+        fails("n,x,y,z\n", Some(100.0), 0, "no samples");
+        fails("a,b,c\n", None, 1, "expected the header");
+        fails("n,x,y,z\n0,1,2\n", Some(100.0), 2, "4 fields");
+        fails("n,x,y,z\n0,1,2,3\n1,1,two,3\n", Some(100.0), 3, "y = `two`");
+        fails("n,x,y,z\n0,1,2,70000\n", Some(100.0), 2, "z = `70000`");
+        fails(
+            "n,x,y,z\n0,1,2,3\n2,1,2,3\n",
+            Some(100.0),
+            3,
+            "1 samples missing",
+        );
+        fails("t,x,y,z\n0,1,2,3\n0,1,2,3\n", None, 3, "does not increase");
+        fails(
+            "t,x,y,z\n0,1,2,3\n0.01,1,2,3\n0.03,1,2,3\n0.04,1,2,3\n",
+            None,
+            3,
+            "gap or jitter",
+        );
+        fails("n,x,y,z\n0,1,2,3\n", None, 0, "no sampling rate");
+        fails(
+            "fs,100\nn,x,y,z\n0,1,2,3\n",
+            Some(200.0),
+            0,
+            "says 200 Hz but the fs line says 100 Hz",
+        );
+        fails("fs,-3\n", None, 1, "must be a number > 0");
+        fails("n,x,y,z\n0,1,2,3\n", Some(99.5), 0, "whole number of Hz");
+    }
+
+    #[test]
+    fn a_single_sample_is_a_recording() {
+        assert_eq!(
+            parse("n,x,y,z\n5,1,2,3\n", Some(100.0)).map(|r| r.samples.len()),
+            Ok(1)
+        );
+    }
+}

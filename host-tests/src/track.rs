@@ -1,0 +1,121 @@
+//! The whole device on the host: samples go through `imu_core::Tracker` (calibration, then
+//! tracking) and a USB poll every millisecond moves the counts into the core's `Reporter`,
+//! exactly as the firmware does. Used by `cargo lab simulate` and `cargo lab replay`.
+
+use imu_core::hid::{screen_motion, Reporter};
+use imu_core::{Config, ConfigError, Event, Phase, Tracker};
+use serde::Serialize;
+
+/// The cursor's position at one time.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TrackPoint {
+    /// Time since the first sample [s].
+    pub t_s: f64,
+    /// Counts sent to the right since tracking began.
+    pub x_counts: i64,
+    /// Counts sent downwards since tracking began.
+    pub y_counts: i64,
+    /// The same in millimetres at the configured counts per inch.
+    pub x_mm: f64,
+    /// The same in millimetres.
+    pub y_mm: f64,
+}
+
+/// What the device did with a stream of samples.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Track {
+    /// Sampling rate [Hz].
+    pub fs: f64,
+    /// Samples processed.
+    pub samples: u64,
+    /// Calibration windows rejected (motion or clipping).
+    pub rejected_windows: u32,
+    /// Time tracking began [s], or `None` if calibration never succeeded.
+    pub tracking_from_s: Option<f64>,
+    /// The cursor every `every_s` seconds.
+    pub points: Vec<TrackPoint>,
+    /// HID reports sent.
+    pub reports: u32,
+    /// Total counts sent (right, down).
+    pub counts: (i64, i64),
+}
+
+/// Runs `samples` (`[x, y, z]` codes at `config.fs_hz`) through the device, recording the
+/// cursor every `every_s` seconds.
+///
+/// # Errors
+/// The configuration's first invalid field.
+pub fn run(
+    config: &Config,
+    samples: impl IntoIterator<Item = [u16; 3]>,
+    every_s: f64,
+) -> Result<Track, ConfigError> {
+    let mut tracker = Tracker::new(config)?;
+    let mut reporter = Reporter::default();
+    let fs = f64::from(config.fs_hz);
+    let per_poll = u64::from((config.fs_hz / 1000).max(1));
+    let per_point = ((every_s * fs).round() as u64).max(1);
+    let mm_per_count = 25.4 / f64::from(config.counts_per_inch);
+    let (mut n, mut sent, mut from) = (0u64, (0i64, 0i64), None);
+    let mut points = vec![];
+    for s in samples {
+        n += 1;
+        if let Some(Event::Calibrated(_)) = tracker.feed(&[s]) {
+            from = Some(n as f64 / fs);
+        }
+        if n % per_poll == 0 {
+            let (dx, dy) = screen_motion(tracker.take_counts());
+            reporter.add_motion(dx, dy);
+            while let Some(r) = reporter.pending() {
+                reporter.sent(&r);
+                sent.0 += i64::from(r.x);
+                sent.1 += i64::from(r.y);
+            }
+        }
+        if n % per_point == 0 && tracker.phase() == Phase::Tracking {
+            points.push(TrackPoint {
+                t_s: n as f64 / fs,
+                x_counts: sent.0,
+                y_counts: sent.1,
+                x_mm: sent.0 as f64 * mm_per_count,
+                y_mm: sent.1 as f64 * mm_per_count,
+            });
+        }
+    }
+    Ok(Track {
+        fs,
+        samples: n,
+        rejected_windows: tracker.counters().rejected_windows,
+        tracking_from_s: from,
+        points,
+        reports: reporter.reports(),
+        counts: sent,
+    })
+}
+
+/// The track as a readable table.
+pub fn table(t: &Track) -> String {
+    let mut out = format!(
+        "{} samples at {} Hz; calibration {}; {} rejected window(s)\n{:>9} {:>10} {:>10} {:>10} {:>10}\n",
+        t.samples,
+        t.fs,
+        t.tracking_from_s.map_or("never succeeded".to_string(), |s| format!("done at {s:.3} s")),
+        t.rejected_windows,
+        "t [s]",
+        "x [counts]",
+        "y [counts]",
+        "x [mm]",
+        "y [mm]"
+    );
+    for p in &t.points {
+        out += &format!(
+            "{:>9.3} {:>10} {:>10} {:>10.2} {:>10.2}\n",
+            p.t_s, p.x_counts, p.y_counts, p.x_mm, p.y_mm
+        );
+    }
+    out += &format!(
+        "sent {} HID reports: {} counts right, {} counts down\n",
+        t.reports, t.counts.0, t.counts.1
+    );
+    out
+}

@@ -1,0 +1,69 @@
+//! `cargo lab simulate` and `cargo lab replay`: the whole device on scenes and recordings.
+
+use host_tests::recording;
+use host_tests::scene::catalogue;
+use host_tests::track;
+use imu_core::Config;
+
+fn scene(name: &str) -> host_tests::scene::Scene {
+    catalogue()
+        .into_iter()
+        .find(|s| s.name == name)
+        .expect("scene exists")
+}
+
+fn config_for(sc: &host_tests::scene::Scene) -> Config {
+    sc.config()
+}
+
+#[test]
+fn a_ten_centimetre_stroke_arrives_within_its_error_budget() {
+    // Tracking starts at 1 s; the stroke ends at 2 s, so 1 s of integration. Error budget at
+    // that point (ADXL335, REFERENCE (g)): sensor noise ND T^1.5 / sqrt 6 = 1.2 mm rms, plus
+    // the bias left by a 1 s calibration, sd = ND / sqrt(2 T_cal) = 2.1e-3 m/s^2, i.e.
+    // 1.0 mm at T = 1 s: 1.6 mm rms together. 5 mm is 3.1 sigma.
+    let sc = scene("adxl335-stroke");
+    let t = track::run(&config_for(&sc), sc.three_axes(2.0, 7), 0.5).expect("valid config");
+    assert_eq!(t.tracking_from_s, Some(1.0));
+    let last = t.points.last().expect("tracked");
+    assert!((last.t_s - 2.0).abs() < 1e-9);
+    assert!((last.x_mm - 100.0).abs() < 5.0, "x = {} mm", last.x_mm);
+    assert!(last.y_mm.abs() < 5.0, "y = {} mm", last.y_mm);
+}
+
+#[test]
+fn replaying_a_written_recording_is_the_same_as_running_it() {
+    let sc = scene("adxl335-rest");
+    let samples = sc.three_axes(2.0, 3);
+    let mut csv = String::from("# adxl335-rest, 2 s\nfs,3000\nn,x,y,z\n");
+    for (i, s) in samples.iter().enumerate() {
+        csv += &format!("{i},{},{},{}\n", s[0], s[1], s[2]);
+    }
+    let rec = recording::parse(&csv, None).expect("valid file");
+    assert_eq!(rec.fs, 3000);
+    let config = config_for(&sc);
+    let direct = track::run(&config, samples, 0.25).expect("valid");
+    let replayed = track::run(&config, rec.samples, 0.25).expect("valid");
+    assert_eq!(direct, replayed);
+    assert_eq!(direct.points.len(), 5); // 1.0, 1.25, ..., 2.0 s
+}
+
+#[test]
+fn a_recording_shorter_than_the_calibration_never_tracks() {
+    let rec = recording::parse("n,x,y,z\n0,2048,2048,2048\n", Some(3000.0)).expect("valid");
+    let t = track::run(&Config::default(), rec.samples, 0.1).expect("valid");
+    assert_eq!((t.tracking_from_s, t.points.len(), t.reports), (None, 0, 0));
+}
+
+#[test]
+fn every_scene_runs_and_calibrates() {
+    for sc in catalogue() {
+        let t = track::run(&config_for(&sc), sc.three_axes(1.5, 1), 0.5).expect("valid");
+        assert!(
+            t.tracking_from_s.is_some(),
+            "{}: {} rejected",
+            sc.name,
+            t.rejected_windows
+        );
+    }
+}
