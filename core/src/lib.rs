@@ -33,11 +33,14 @@ pub mod config;
 pub mod hid;
 pub mod indicator;
 pub mod integrator;
+pub mod kernels;
 pub mod ledger;
 pub mod lowpass;
 mod math;
 pub mod readout;
+pub mod testsignal;
 pub mod tracker;
+pub mod variants;
 
 pub use axis::Axis;
 pub use button::{ButtonEvent, Debouncer};

@@ -82,11 +82,21 @@ impl Readout {
     /// remainder in `state`. Saturates (never wraps) if `carry + z M` leaves `i128`, which no
     /// documented run reaches.
     pub fn take(&self, state: &mut ReadoutState, z: i128) -> i32 {
-        let zm = z.checked_mul(i128::from(self.mult)).unwrap_or(if z < 0 {
-            i128::MIN
-        } else {
-            i128::MAX
-        });
+        let zm = match i64::try_from(z) {
+            // The usual case (a read-out every millisecond drains small positions): two
+            // 32x32->64 products instead of a checked 128-bit multiply. With z = h 2^32 + l,
+            // |h| < 2^31 and l < 2^32: |h M| < 2^63 and l M < 2^64, so both are exact.
+            Ok(z) => {
+                let hi = (z >> 32) * i64::from(self.mult);
+                let lo = u64::from(z as u32) * u64::from(self.mult);
+                (i128::from(hi) << 32) + i128::from(lo)
+            }
+            Err(_) => z.checked_mul(i128::from(self.mult)).unwrap_or(if z < 0 {
+                i128::MIN
+            } else {
+                i128::MAX
+            }),
+        };
         let x = state.carry.saturating_add(zm);
         let n_full = x.saturating_add(1 << (self.shift - 1)) >> self.shift;
         let n = n_full.clamp(i128::from(i32::MIN), i128::from(i32::MAX));
@@ -139,6 +149,30 @@ mod tests {
         let exact = 1_000_000 * i128::from(r.mult());
         let half = 1i128 << (r.shift() - 1);
         assert_eq!(i128::from(total), (exact + half) >> r.shift());
+    }
+
+    #[test]
+    fn split_product_equals_the_128_bit_product() {
+        let r = Readout::from_ratio(0.3e-9).expect("in range");
+        for z in [
+            0i128,
+            1,
+            -1,
+            1 << 40,
+            -(1 << 40) - 7,
+            i128::from(i64::MAX),
+            i128::from(i64::MIN),
+            123_456_789_012_345,
+        ] {
+            let (mut a, mut b) = (ReadoutState::default(), ReadoutState::default());
+            let got = r.take(&mut a, z);
+            // The definition: carry + z M, rounded at P.
+            let x = b.carry + z * i128::from(r.mult());
+            let n = ((x + (1 << (r.shift() - 1))) >> r.shift())
+                .clamp(i128::from(i32::MIN), i128::from(i32::MAX));
+            b.carry = x - (n << r.shift());
+            assert_eq!((got, a), (n as i32, b), "z = {z}");
+        }
     }
 
     #[test]

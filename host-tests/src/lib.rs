@@ -11,6 +11,7 @@ pub mod reference;
 pub mod reproduce;
 pub mod scene;
 pub mod sim;
+pub mod speed;
 pub mod stats;
 pub mod track;
 pub mod twin;

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use host_tests::{budget, hid, predict, recording, reproduce, scene, track};
+use host_tests::{budget, hid, predict, recording, reproduce, scene, speed, track};
 
 #[derive(Parser)]
 #[command(
@@ -29,6 +29,27 @@ enum Command {
     Simulate(SimulateArgs),
     /// A recorded trace (CSV of ADC codes) through the whole device.
     Replay(ReplayArgs),
+    /// Speed against error: QEMU instruction counts, host ns, error vs f64.
+    Speed(SpeedArgs),
+}
+
+#[derive(Args)]
+struct SpeedArgs {
+    /// Skip the QEMU run (no instruction counts).
+    #[arg(long)]
+    host_only: bool,
+    /// Trials for the error columns.
+    #[arg(long, default_value_t = 3)]
+    trials: u64,
+    /// Measure errors only up to this T [s] (3600 for the full table).
+    #[arg(long, default_value_t = 3600.0)]
+    max_t: f64,
+    /// Directory for the Pareto plot.
+    #[arg(long, default_value = "target/lab/speed")]
+    out: std::path::PathBuf,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args)]
@@ -155,6 +176,7 @@ fn main() -> ExitCode {
         Command::Reproduce(a) => run_reproduce(&a),
         Command::Simulate(a) => run_simulate(&a),
         Command::Replay(a) => run_replay(&a),
+        Command::Speed(a) => run_speed(&a),
     };
     match result {
         Ok(text) => {
@@ -280,4 +302,36 @@ fn run_replay(a: &ReplayArgs) -> Result<String, String> {
     };
     let t = track::run(&config, rec.samples, every).map_err(|e| e.to_string())?;
     show_track(&t, a.json, format!("{}\n", a.file.display()))
+}
+
+fn run_speed(a: &SpeedArgs) -> Result<String, String> {
+    if a.trials == 0 {
+        return Err("--trials 0: at least one trial".into());
+    }
+    positive("max-t", a.max_t)?;
+    let workspace = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .ok_or("no workspace directory")?;
+    let target = if a.host_only {
+        None
+    } else {
+        Some(speed::run_target(workspace).map_err(|e| e.to_string())?)
+    };
+    let report = speed::report(target, a.trials, a.max_t);
+    if let Some(plot) = speed::pareto(&report) {
+        std::fs::create_dir_all(&a.out).map_err(|e| format!("--out {}: {e}", a.out.display()))?;
+        let path = a.out.join("pareto.svg");
+        std::fs::write(&path, plot.to_svg()).map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    let mismatch = report.target.as_ref().is_some_and(|t| !t.bit_exact);
+    let text = if a.json {
+        serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?
+    } else {
+        speed::table(&report)
+    };
+    if mismatch {
+        println!("{text}");
+        return Err("target and host checksums differ".into());
+    }
+    Ok(text)
 }

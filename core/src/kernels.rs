@@ -1,0 +1,211 @@
+//! Benchmark kernels: each runs one stage or pipeline over a block of codes and folds every
+//! output into a [`Checksum`]. The QEMU speed harness times them per block; the host runs
+//! the same kernels on the same [`crate::testsignal::Trace`] and must get the same checksum,
+//! bit for bit. Not used by the device.
+
+use crate::testsignal::Checksum;
+use crate::variants::{F32Pipeline, NarrowPipeline};
+use crate::{
+    AdcCode, Axis, Config, IntegratorState, Lowpass, LowpassState, Readout, ReadoutState, Scheme,
+    Settings,
+};
+
+/// The default device's settings at 3 kHz, with the 50 Hz digital low-pass on or off and the
+/// given scheme.
+///
+/// # Panics
+/// Never: the configuration is a valid constant.
+pub fn settings(filter: bool, scheme: Scheme) -> Settings {
+    match (Config {
+        lowpass_fc_hz: if filter { Some(50.0) } else { None },
+        scheme,
+        ..Config::default()
+    })
+    .validate()
+    {
+        Ok(s) => s,
+        Err(_) => unreachable!("a constant, valid configuration"),
+    }
+}
+
+/// One benchmarked variant. Per-sample outputs go into a wrapping sum folded into the
+/// checksum once per block, so the bookkeeping costs about two instructions per sample
+/// ([`Baseline`] measures it).
+pub trait Kernel {
+    /// Runs over `codes`, folding outputs into `sum`.
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum);
+}
+
+/// The loop and bookkeeping alone: sums the codes. Its cost is subtracted from the others'
+/// to report what a stage itself costs.
+#[derive(Default)]
+pub struct Baseline;
+
+impl Kernel for Baseline {
+    #[inline(never)]
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
+        let mut acc: u64 = 0;
+        for &c in codes {
+            acc = acc.wrapping_add(u64::from(c));
+        }
+        sum.add(acc);
+    }
+}
+
+/// The whole per-axis pipeline: filter (optional), bias, double integration, and a count
+/// read-out every third sample (the 1 kHz USB poll at 3 kHz).
+pub struct PipelineAxis {
+    settings: Settings,
+    axis: Axis,
+    n: u32,
+}
+
+impl PipelineAxis {
+    /// The pipeline with `settings`, bias at code 2048.
+    pub fn new(settings: Settings) -> Self {
+        Self {
+            settings,
+            axis: Axis::new(2048 << 16),
+            n: 0,
+        }
+    }
+}
+
+impl Kernel for PipelineAxis {
+    #[inline(never)]
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
+        let mut acc: u64 = 0;
+        for &c in codes {
+            self.axis.update(&self.settings, AdcCode(c));
+            self.n += 1;
+            if self.n == 3 {
+                self.n = 0;
+                acc = acc.wrapping_add(self.axis.take_counts(&self.settings) as u64);
+            }
+        }
+        sum.add(acc);
+        sum.add(self.axis.integrator().velocity() as u64);
+    }
+}
+
+/// The low-pass alone (50 Hz at 3 kHz).
+pub struct LowpassStage {
+    lp: Lowpass,
+    st: LowpassState,
+}
+
+impl Default for LowpassStage {
+    fn default() -> Self {
+        Self {
+            lp: settings(true, Scheme::Euler)
+                .lowpass()
+                .copied()
+                .unwrap_or(Lowpass::from_k_q32(0)),
+            st: LowpassState::settled_q16(2048 << 16),
+        }
+    }
+}
+
+impl Kernel for LowpassStage {
+    #[inline(never)]
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
+        let mut acc: u64 = 0;
+        for &c in codes {
+            acc = acc.wrapping_add(self.lp.process(&mut self.st, AdcCode(c)) as u64);
+        }
+        sum.add(acc);
+    }
+}
+
+/// The double integrator alone, on `(code - 2048) << 16`.
+pub struct IntegratorStage {
+    scheme: Scheme,
+    st: IntegratorState,
+}
+
+impl IntegratorStage {
+    /// The integrator for `scheme`.
+    pub fn new(scheme: Scheme) -> Self {
+        Self {
+            scheme,
+            st: IntegratorState::default(),
+        }
+    }
+}
+
+impl Kernel for IntegratorStage {
+    #[inline(never)]
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
+        for &c in codes {
+            self.scheme.step(&mut self.st, (i64::from(c) - 2048) << 16);
+        }
+        sum.add(self.st.velocity() as u64);
+        sum.add(self.st.position() as u64);
+    }
+}
+
+/// The read-out alone: one `take` per code, of a position made from it.
+pub struct ReadoutStage {
+    r: Readout,
+    st: ReadoutState,
+}
+
+impl Default for ReadoutStage {
+    fn default() -> Self {
+        Self {
+            r: *settings(true, Scheme::Euler).readout(),
+            st: ReadoutState::default(),
+        }
+    }
+}
+
+impl Kernel for ReadoutStage {
+    #[inline(never)]
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
+        let mut acc: u64 = 0;
+        for &c in codes {
+            let z = i128::from(c) << 40;
+            acc = acc.wrapping_add(self.r.take(&mut self.st, z) as u64);
+        }
+        sum.add(acc);
+    }
+}
+
+/// The f32 pipeline (filter at the same coefficient, bias 2048).
+pub struct F32Stage(pub F32Pipeline);
+
+impl Default for F32Stage {
+    fn default() -> Self {
+        let k = settings(true, Scheme::Euler).lowpass_k_q32() as f32 / 4_294_967_296.0;
+        Self(F32Pipeline::new(Some(k), 2048.0))
+    }
+}
+
+impl Kernel for F32Stage {
+    #[inline(never)]
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
+        for &c in codes {
+            self.0.update(c);
+        }
+        sum.add(u64::from(self.0.s.to_bits()));
+    }
+}
+
+/// The narrow integer pipeline (no filter, bias 2048).
+pub struct NarrowStage(pub NarrowPipeline);
+
+impl Default for NarrowStage {
+    fn default() -> Self {
+        Self(NarrowPipeline::new(2048 << 8))
+    }
+}
+
+impl Kernel for NarrowStage {
+    #[inline(never)]
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
+        for &c in codes {
+            self.0.update(c);
+        }
+        sum.add(self.0.s as u64);
+    }
+}
