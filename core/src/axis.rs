@@ -62,17 +62,47 @@ impl Axis {
         self.integrator.reset();
     }
 
-    /// Processes one sample.
+    /// Processes one sample: [`Self::filter`] then [`Self::integrate`].
     #[inline]
     pub fn update(&mut self, settings: &Settings, x: AdcCode) {
+        let y = self.filter(settings, x);
+        self.integrate(settings, y);
+    }
+
+    /// The first half of [`Self::update`]: records the code and returns it filtered (or
+    /// as is), in Q16 counts.
+    #[inline]
+    pub fn filter(&mut self, settings: &Settings, x: AdcCode) -> i64 {
         self.last = x;
-        let y = match settings.lowpass() {
+        match settings.lowpass() {
             Some(lp) => lp.process(&mut self.lowpass, x),
             None => i64::from(x.0) << 16,
-        };
+        }
+    }
+
+    /// The second half of [`Self::update`]: integrates a filtered sample `y` (Q16 counts)
+    /// minus the bias.
+    #[inline]
+    pub fn integrate(&mut self, settings: &Settings, y: i64) {
         settings
             .scheme()
             .step(&mut self.integrator, y - self.bias_q16);
+    }
+
+    /// Zero-velocity update (see [`IntegratorState::zero_velocity`]).
+    pub fn zero_velocity(&mut self) {
+        self.integrator.zero_velocity();
+    }
+
+    /// Moves the bias (Q16 counts, clamped to the codes' range) without touching the filter:
+    /// bias tracking at rest.
+    pub fn track_bias_q16(&mut self, bias_q16: i64) {
+        self.bias_q16 = bias_q16.clamp(0, 65_535 << 16);
+    }
+
+    /// The last code processed.
+    pub const fn last_code(&self) -> AdcCode {
+        self.last
     }
 
     /// Accounts for `lost` samples that the ADC or DMA dropped, by holding the last code.

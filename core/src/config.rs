@@ -13,6 +13,7 @@ use crate::calibration::Calibrator;
 use crate::integrator::Scheme;
 use crate::lowpass::Lowpass;
 use crate::readout::Readout;
+use crate::stillness::{Drift, DriftError, DriftSettings};
 
 /// Lowest accepted sampling rate [Hz].
 pub const FS_MIN_HZ: u32 = 1;
@@ -54,6 +55,9 @@ pub struct Config {
     /// Largest per-sample rms noise accepted as "at rest" during calibration [m/s^2], finite
     /// and `> 0`. A window noisier than this is motion and is rejected, not averaged in.
     pub rest_noise_max_m_s2: f64,
+    /// Drift control (stillness detection, zero-velocity updates, bias tracking, click
+    /// freeze), or `None` for pure double integration as in the paper.
+    pub drift: Option<Drift>,
 }
 
 impl Default for Config {
@@ -71,6 +75,7 @@ impl Default for Config {
             scheme: Scheme::Euler,
             calibration_s: 1.0,
             rest_noise_max_m_s2: 0.1,
+            drift: Some(Drift::default()),
         }
     }
 }
@@ -104,6 +109,8 @@ pub enum ConfigError {
     CalibrationWindow,
     /// `rest_noise_max_m_s2` is not finite, not `> 0`, or not below `2^23` ADC LSB.
     RestNoise,
+    /// A `drift` field is invalid.
+    Drift(DriftError),
 }
 
 impl fmt::Display for ConfigError {
@@ -131,6 +138,7 @@ impl fmt::Display for ConfigError {
             Self::RestNoise => f.write_str(
                 "rest_noise_max_m_s2: the at-rest noise bound must be finite, > 0 and below 2^23 ADC LSB",
             ),
+            Self::Drift(e) => write!(f, "{e}"),
         }
     }
 }
@@ -187,7 +195,12 @@ impl Config {
             crate::math::round_to_u64(var_q16).max(1),
             self.adc_bits,
         );
+        let drift = match &self.drift {
+            None => None,
+            Some(d) => Some(d.validate(self.fs_hz).map_err(ConfigError::Drift)?),
+        };
         Ok(Settings {
+            drift,
             fs_hz: self.fs_hz,
             lowpass,
             scheme: self.scheme,
@@ -203,6 +216,7 @@ impl Config {
 /// by all axes of a device.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Settings {
+    drift: Option<DriftSettings>,
     fs_hz: u32,
     lowpass: Option<Lowpass>,
     scheme: Scheme,
@@ -213,6 +227,10 @@ pub struct Settings {
 }
 
 impl Settings {
+    /// The validated drift control, if enabled.
+    pub fn drift(&self) -> Option<&DriftSettings> {
+        self.drift.as_ref()
+    }
     /// Sampling rate of each axis [Hz].
     pub fn fs_hz(&self) -> u32 {
         self.fs_hz

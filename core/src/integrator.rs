@@ -65,6 +65,13 @@ impl IntegratorState {
         core::mem::take(&mut self.z)
     }
 
+    /// Zero-velocity update: velocity to zero (the trapezoid waits for a new first sample);
+    /// the position not yet drained is kept, so nothing already moved is lost.
+    pub fn zero_velocity(&mut self) {
+        self.w = 0;
+        self.primed = false;
+    }
+
     /// Stops the motion: zero velocity and position, and the trapezoid waits for a new first
     /// sample.
     pub fn reset(&mut self) {

@@ -19,6 +19,7 @@ pub fn settings(filter: bool, scheme: Scheme) -> Settings {
     match (Config {
         lowpass_fc_hz: if filter { Some(50.0) } else { None },
         scheme,
+        drift: None,
         ..Config::default()
     })
     .validate()

@@ -38,6 +38,7 @@ pub mod ledger;
 pub mod lowpass;
 mod math;
 pub mod readout;
+pub mod stillness;
 pub mod testsignal;
 pub mod tracker;
 pub mod variants;
@@ -52,6 +53,7 @@ pub use integrator::{IntegratorState, Scheme};
 pub use ledger::{LedgerError, SampleLedger};
 pub use lowpass::{Lowpass, LowpassState};
 pub use readout::{Readout, ReadoutState};
+pub use stillness::{Drift, DriftError};
 pub use tracker::{Counters, Event, Phase, Tracker, AXES};
 
 /// Number of fractional bits of the bias-free acceleration `c` fed to the integrator

@@ -13,11 +13,17 @@
 //! ```
 //!
 //! While calibrating, nothing moves and [`Tracker::take_counts`] returns zeros. Samples that
-//! the hardware lost are reported with [`Tracker::lost`] and held (see [`Axis::hold`]).
+//! the hardware lost are reported with [`Tracker::lost`] and held (the last codes repeated).
+//!
+//! While tracking with drift control ([`crate::stillness`]), each sample goes through the
+//! stillness detector first: still samples are not integrated (and update the bias), the
+//! first moving sample integrates the detector's window from zero velocity, and a button
+//! edge ([`Tracker::button_edge`]) freezes integration for the click-freeze time.
 
 use crate::axis::Axis;
 use crate::calibration::{Calibration, CalibrationError, Calibrator};
 use crate::config::{Config, ConfigError, Settings};
+use crate::stillness::{Detector, Verdict};
 use crate::AdcCode;
 
 /// Number of axes the tracker integrates (X, Y, Z in the ADC's scan order).
@@ -58,6 +64,20 @@ pub struct Counters {
     pub lost: u64,
     /// Calibration windows rejected.
     pub rejected_windows: u32,
+    /// Samples the stillness detector held still (not integrated).
+    pub still_samples: u64,
+    /// Motions started (still -> moving).
+    pub motions: u32,
+    /// Samples skipped by the click freeze.
+    pub frozen_samples: u64,
+}
+
+/// Integrates one filtered sample on every axis. One copy for every caller (flash).
+#[inline(never)]
+fn integrate_all(axes: &mut [Axis; AXES], s: &Settings, y: [i64; AXES]) {
+    for (axis, y) in axes.iter_mut().zip(y) {
+        axis.integrate(s, y);
+    }
 }
 
 /// Calibration and tracking of one device.
@@ -68,6 +88,8 @@ pub struct Tracker {
     axes: [Axis; AXES],
     calibrators: [Calibrator; AXES],
     counters: Counters,
+    detector: Option<Detector>,
+    freeze_left: u32,
 }
 
 impl Tracker {
@@ -83,6 +105,8 @@ impl Tracker {
             axes: [Axis::default(); AXES],
             calibrators: [settings.calibrator(); AXES],
             counters: Counters::default(),
+            detector: None,
+            freeze_left: 0,
         })
     }
 
@@ -99,6 +123,8 @@ impl Tracker {
     /// Stops all motion and starts a new calibration window.
     pub fn recalibrate(&mut self) {
         self.phase = Phase::Calibrating;
+        self.detector = None;
+        self.freeze_left = 0;
         self.calibrators = [self.settings.calibrator(); AXES];
         for axis in &mut self.axes {
             axis.stop();
@@ -112,11 +138,7 @@ impl Tracker {
         for sample in block {
             self.counters.samples += 1;
             match self.phase {
-                Phase::Tracking => {
-                    for (axis, &code) in self.axes.iter_mut().zip(sample) {
-                        axis.update(&self.settings, AdcCode(code));
-                    }
-                }
+                Phase::Tracking => self.track(*sample),
                 Phase::Calibrating => {
                     for (cal, &code) in self.calibrators.iter_mut().zip(sample) {
                         cal.push(AdcCode(code));
@@ -153,19 +175,82 @@ impl Tracker {
             axis.set_bias_q16(r.bias_q16);
             axis.stop();
         }
+        self.detector = self
+            .settings
+            .drift()
+            .map(|d| Detector::new(d, results.map(|r| r.noise_rms_q16)));
         self.phase = Phase::Tracking;
         Event::Calibrated(results)
     }
 
+    /// One tracked sample: filter, stillness detector, then integration (or not). Not
+    /// inlined: `feed` and `lost` share one copy (flash on the device).
+    #[inline(never)]
+    fn track(&mut self, codes: [u16; AXES]) {
+        let s = self.settings;
+        let y: [i64; AXES] = core::array::from_fn(|a| self.axes[a].filter(&s, AdcCode(codes[a])));
+        let (Some(ds), Some(det)) = (s.drift(), self.detector.as_mut()) else {
+            integrate_all(&mut self.axes, &s, y);
+            return;
+        };
+        let was_still = det.is_still();
+        let bias = self.axes.each_ref().map(Axis::bias_q16);
+        let verdict = det.push(ds, codes, y, bias);
+        if self.freeze_left > 0 {
+            self.freeze_left -= 1;
+            self.counters.frozen_samples += 1;
+            if self.freeze_left == 0 {
+                self.axes.iter_mut().for_each(Axis::zero_velocity);
+            }
+            return;
+        }
+        match verdict {
+            Verdict::Moving => integrate_all(&mut self.axes, &s, y),
+            Verdict::Started => {
+                self.counters.motions += 1;
+                for w in det.window(ds) {
+                    integrate_all(&mut self.axes, &s, w);
+                }
+            }
+            Verdict::Still => {
+                self.counters.still_samples += 1;
+                if !was_still {
+                    self.axes.iter_mut().for_each(Axis::zero_velocity);
+                }
+                if let Some(b) = det.bias_update(ds, bias) {
+                    for (axis, b) in self.axes.iter_mut().zip(b) {
+                        axis.track_bias_q16(b);
+                    }
+                }
+            }
+        }
+    }
+
+    /// A button changed state: with drift control, integration pauses for the click-freeze
+    /// time and restarts from zero velocity, so the jolt of a click does not drag the cursor.
+    pub fn button_edge(&mut self) {
+        if let (Phase::Tracking, Some(d)) = (self.phase, self.settings.drift()) {
+            self.freeze_left = d.freeze_samples();
+        }
+    }
+
     /// Reports `lost` sample triples that the hardware dropped (ADC or DMA overrun). While
-    /// tracking they are held (see [`Axis::hold`]); while calibrating they only count.
+    /// tracking they are held: the last codes go through the same path again, so the
+    /// integrator's clock stays the hardware's. While calibrating they only count.
     pub fn lost(&mut self, lost: u32) {
         self.counters.lost += u64::from(lost);
         if self.phase == Phase::Tracking {
-            for axis in &mut self.axes {
-                axis.hold(&self.settings, lost);
+            let last = self.axes.each_ref().map(|a| a.last_code().0);
+            for _ in 0..lost {
+                self.track(last);
             }
         }
+    }
+
+    /// Whether drift control currently holds the device still (`false` without drift
+    /// control or while calibrating).
+    pub fn is_still(&self) -> bool {
+        self.phase == Phase::Tracking && self.detector.is_some_and(|d| d.is_still())
     }
 
     /// Drains the motion since the last call as whole mouse counts `[x, y, z]`, remainders

@@ -5,8 +5,13 @@ use imu_core::{
     Scheme, Tracker,
 };
 
+/// The pure double integrator (drift control off): these tests check integration itself.
+/// Drift control has its own tests (`drift.rs`).
 fn cfg() -> Config {
-    Config::default()
+    Config {
+        drift: None,
+        ..Config::default()
+    }
 }
 
 #[track_caller]

@@ -17,7 +17,7 @@
 //! timers, TIM2 among them, at 96 MHz), APB2 96 MHz, and the 48 MHz USB clock from the PLL.
 //! The ADC trigger is TIM2's update event (TRGO) at exactly [`FS_HZ`].
 
-use imu_core::{Config, Scheme};
+use imu_core::{Config, Drift, Scheme};
 use stm32f4xx_hal::adc::config::SampleTime;
 
 /// Crystal [Hz].
@@ -97,5 +97,7 @@ pub fn tracker_config() -> Config {
         scheme: Scheme::Euler,
         calibration_s: 1.0,
         rest_noise_max_m_s2: 0.1,
+        // Stillness detection, zero-velocity updates, bias tracking and a 150 ms click freeze.
+        drift: Some(Drift::default()),
     }
 }

@@ -85,11 +85,18 @@ pub fn indicator(
     Indicator::choose(usb_configured, tracker.phase() == Phase::Tracking, last)
 }
 
-/// A debounced KEY event: left button state, and recalibration on a long press.
+/// A debounced KEY event: left button state (each edge starts the click freeze), and
+/// recalibration on a long press.
 pub fn on_button(event: ButtonEvent, buttons: &mut u8, tracker: &mut Tracker) {
     match event {
-        ButtonEvent::Pressed => *buttons = imu_core::hid::buttons::LEFT,
-        ButtonEvent::Released => *buttons = 0,
+        ButtonEvent::Pressed => {
+            *buttons = imu_core::hid::buttons::LEFT;
+            tracker.button_edge();
+        }
+        ButtonEvent::Released => {
+            *buttons = 0;
+            tracker.button_edge();
+        }
         ButtonEvent::LongPress => {
             tracker.recalibrate();
             defmt::info!("KEY held: recalibrating, keep still");

@@ -149,7 +149,11 @@ pub fn integrator(scheme: Scheme, n: usize, seed: u64) -> Row {
 
 /// Read-out: counts delivered at 1 kHz from a 3 kHz axis, against the f64 position.
 pub fn readout(n: usize, seed: u64) -> Row {
-    let config = Config::default();
+    // Pure integration: the budget measures arithmetic, not drift control.
+    let config = Config {
+        drift: None,
+        ..Config::default()
+    };
     let mut tracker = Tracker::new(&config).expect("valid default");
     tracker.feed(&[[2048; 3]; 3000]);
     let settings = *tracker.settings();
@@ -183,6 +187,7 @@ pub fn readout(n: usize, seed: u64) -> Row {
 pub fn pipeline(t_s: f64, trials: usize, seed: u64) -> Row {
     let config = Config {
         lowpass_fc_hz: Some(50.0),
+        drift: None,
         ..Config::default()
     };
     let fs = f64::from(config.fs_hz);

@@ -122,6 +122,7 @@ fn core_settings(fs: u32, scheme: Scheme) -> Settings {
         fs_hz: fs,
         lowpass_fc_hz: None,
         scheme,
+        drift: None, // the paper's pure double integration
         ..Config::default()
     }
     .validate()
