@@ -4,6 +4,7 @@
 pub mod budget;
 pub mod hid;
 pub mod montecarlo;
+pub mod mouse;
 pub mod plot;
 pub mod predict;
 pub mod recording;

@@ -3,7 +3,7 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use host_tests::{budget, hid, predict, recording, reproduce, scene, speed, track};
+use host_tests::{budget, hid, mouse, predict, recording, reproduce, scene, speed, track};
 
 #[derive(Parser)]
 #[command(
@@ -31,6 +31,27 @@ enum Command {
     Replay(ReplayArgs),
     /// Speed against error: QEMU instruction counts, host ns, error vs f64.
     Speed(SpeedArgs),
+    /// The mouse on a desk: strokes, rests, clicks, with and without drift control.
+    Mouse(MouseArgs),
+}
+
+#[derive(Args)]
+struct MouseArgs {
+    /// Strokes in the desk scene.
+    #[arg(long, default_value_t = 60)]
+    strokes: usize,
+    /// Length of the at-rest scene [min].
+    #[arg(long, default_value_t = 10.0)]
+    rest_minutes: f64,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Directory for the path plot.
+    #[arg(long, default_value = "target/lab/mouse")]
+    out: std::path::PathBuf,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args)]
@@ -177,6 +198,7 @@ fn main() -> ExitCode {
         Command::Simulate(a) => run_simulate(&a),
         Command::Replay(a) => run_replay(&a),
         Command::Speed(a) => run_speed(&a),
+        Command::Mouse(a) => run_mouse(&a),
     };
     match result {
         Ok(text) => {
@@ -334,4 +356,21 @@ fn run_speed(a: &SpeedArgs) -> Result<String, String> {
         return Err("target and host checksums differ".into());
     }
     Ok(text)
+}
+
+fn run_mouse(a: &MouseArgs) -> Result<String, String> {
+    if a.strokes == 0 || a.strokes > 10_000 {
+        return Err(format!("--strokes {}: 1..=10000", a.strokes));
+    }
+    positive("rest-minutes", a.rest_minutes)?;
+    let report = mouse::run(a.strokes, a.rest_minutes, a.seed);
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("--out {}: {e}", a.out.display()))?;
+    let path = a.out.join("path.svg");
+    std::fs::write(&path, mouse::path_svg(12, a.seed))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    if a.json {
+        serde_json::to_string_pretty(&report).map_err(|e| e.to_string())
+    } else {
+        Ok(format!("{}plot: {}", mouse::table(&report), path.display()))
+    }
 }

@@ -1,0 +1,442 @@
+//! `cargo lab mouse`: the mouse on a desk. Strokes, rests and clicks of a simulated hand go
+//! through the whole device (`imu_core::Tracker` with and without drift control) and the
+//! cursor is compared with the hand.
+//!
+//! # Scene
+//! Each axis: ADXL335 noise (300 ug/sqrt(Hz) into its 50 Hz RC pole), a bias random walk of
+//! 20 ug/sqrt(s) (slow temperature drift), a 12-bit ADC at 3 kHz. The hand makes minimum-jerk
+//! strokes of 1 to 30 cm (log-uniform) in uniformly random directions, lasting
+//! `0.25 + 0.9 sqrt(D / 0.3 m)` s (peak speeds 0.05 to 0.5 m/s), separated by rests of 0.3 to
+//! 2 s; in every other rest the finger clicks (a press and a release 100 ms apart), each edge
+//! with a 30 ms jolt of +-0.5 m/s^2 along a random direction.
+//!
+//! # Metrics
+//! - stroke length and direction: the cursor's displacement from one stroke's start to the
+//!   next stroke's start, against the stroke's;
+//! - latency: from a stroke's start to the first count it moves, and from its end to the
+//!   last count before the next stroke;
+//! - click drag: counts moved from a click's press to 300 ms after its release;
+//! - stationary wander: counts moved in a separate scene of the hand at rest.
+
+use imu_core::hid::screen_motion;
+use imu_core::{Config, Drift, Tracker};
+use serde::Serialize;
+
+use crate::scene::{min_jerk_accel, ADXL335_LSB};
+use crate::sim::{self, SimRng};
+
+const FS: f64 = 3000.0;
+const CPI: f64 = 800.0;
+const G: f64 = 9.806_65;
+
+/// One stroke of the hand.
+#[derive(Clone, Copy, Debug)]
+struct Stroke {
+    start: usize,
+    len: usize,
+    distance_m: f64,
+    dir: f64,
+}
+
+/// A click: press and release sample indices, jolt directions.
+#[derive(Clone, Copy, Debug)]
+struct Click {
+    press: usize,
+    release: usize,
+    dirs: [f64; 2],
+}
+
+/// The hand's plan for a scene.
+struct Plan {
+    n: usize,
+    strokes: Vec<Stroke>,
+    clicks: Vec<Click>,
+}
+
+fn plan(strokes: usize, rng: &mut SimRng) -> Plan {
+    use rand::Rng;
+    let mut t = (1.5 * FS) as usize; // 1 s calibration + 0.5 s rest
+    let (mut ss, mut cs) = (vec![], vec![]);
+    for k in 0..strokes {
+        let d = 0.01 * 30f64.powf(rng.random::<f64>());
+        let dur = 0.25 + 0.9 * (d / 0.3).sqrt();
+        let len = (dur * FS) as usize;
+        ss.push(Stroke {
+            start: t,
+            len,
+            distance_m: d,
+            dir: rng.random::<f64>() * std::f64::consts::TAU,
+        });
+        t += len;
+        let rest = ((0.3 + 1.7 * rng.random::<f64>()) * FS) as usize;
+        if k % 2 == 1 && rest > (0.6 * FS) as usize {
+            let press = t + (0.1 * FS) as usize;
+            cs.push(Click {
+                press,
+                release: press + (0.1 * FS) as usize,
+                dirs: [
+                    rng.random::<f64>() * std::f64::consts::TAU,
+                    rng.random::<f64>() * std::f64::consts::TAU,
+                ],
+            });
+        }
+        t += rest;
+    }
+    Plan {
+        n: t + (0.5 * FS) as usize,
+        strokes: ss,
+        clicks: cs,
+    }
+}
+
+/// The hand's acceleration [m/s^2] (x, y) at sample `i`.
+fn hand(p: &Plan, i: usize) -> (f64, f64) {
+    let (mut ax, mut ay) = (0.0, 0.0);
+    for s in &p.strokes {
+        if i >= s.start && i < s.start + s.len {
+            let a = min_jerk_accel((i - s.start) as f64 / FS, s.len as f64 / FS, s.distance_m);
+            ax += a * s.dir.cos();
+            ay += a * s.dir.sin();
+        }
+    }
+    for c in &p.clicks {
+        for (edge, dir) in [c.press, c.release].iter().zip(c.dirs) {
+            let jolt = (0.03 * FS) as usize;
+            if i >= *edge && i < edge + jolt {
+                // +0.5 then -0.5 m/s^2: the finger's push and the hand's recoil.
+                let a = if i - edge < jolt / 2 { 0.5 } else { -0.5 };
+                ax += a * dir.cos();
+                ay += a * dir.sin();
+            }
+        }
+    }
+    (ax, ay)
+}
+
+/// The sensor's noise and drift on three axes.
+struct Sensor {
+    ar: [sim::Ar1; 3],
+    walk: [f64; 3],
+    walk_sd: f64,
+}
+
+impl Sensor {
+    fn new(rng: &mut SimRng) -> Self {
+        let alpha = std::f64::consts::TAU * 50.0 / FS;
+        let sigma_c = 300e-6 * G;
+        let r0 = sigma_c * sigma_c * std::f64::consts::PI * 50.0 / 2.0;
+        Self {
+            ar: core::array::from_fn(|_| sim::Ar1::new(r0, alpha, rng)),
+            walk: [0.0; 3],
+            walk_sd: 20e-6 * G / FS.sqrt(),
+        }
+    }
+
+    fn codes(&mut self, a: [f64; 3], rng: &mut SimRng) -> [u16; 3] {
+        let adc = sim::Adc { bits: 12 };
+        core::array::from_fn(|k| {
+            self.walk[k] += self.walk_sd * sim::normal(rng);
+            adc.code(2048.0 + (a[k] + self.ar[k].next(rng) + self.walk[k]) / ADXL335_LSB)
+        })
+    }
+}
+
+/// Median and 90th percentile.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Spread {
+    /// Median.
+    pub median: f64,
+    /// 90th percentile.
+    pub p90: f64,
+}
+
+fn spread(mut v: Vec<f64>) -> Spread {
+    if v.is_empty() {
+        return Spread {
+            median: f64::NAN,
+            p90: f64::NAN,
+        };
+    }
+    v.sort_by(f64::total_cmp);
+    let q = |p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
+    Spread {
+        median: q(0.5),
+        p90: q(0.9),
+    }
+}
+
+/// Latencies [ms].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Latency {
+    /// From a stroke's start to its first count: median.
+    pub start_median: f64,
+    /// The same, 90th percentile.
+    pub start_p90: f64,
+    /// From a stroke's end to its last count: median.
+    pub stop_median: f64,
+    /// The same, 90th percentile.
+    pub stop_p90: f64,
+}
+
+/// The metrics of one configuration.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Metrics {
+    /// Length of the at-rest scene [min].
+    pub stationary_minutes: f64,
+    /// Counts moved in it (|x| + |y| summed over every report).
+    pub stationary_wander_counts: i64,
+    /// Strokes measured.
+    pub strokes: usize,
+    /// |cursor length - stroke length| / stroke length [%].
+    pub stroke_length_error_pct: Spread,
+    /// Angle between cursor and stroke [degrees].
+    pub direction_error_deg: Spread,
+    /// Counts moved around clicks (|x| + |y|), all clicks.
+    pub click_drag_counts: i64,
+    /// Clicks made.
+    pub clicks: usize,
+    /// Latencies.
+    pub latency_ms: Latency,
+}
+
+/// Both configurations.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Report {
+    /// With drift control (the device's default).
+    #[serde(flatten)]
+    pub drift_control: Metrics,
+    /// Pure double integration, the same scenes.
+    pub pure_integration: Metrics,
+    /// Seed.
+    pub seed: u64,
+}
+
+/// A cursor trace: position [counts] after each 1 ms poll, and the counts moved per poll.
+struct Trace {
+    pos: Vec<(i64, i64)>,
+    moved: Vec<i64>,
+}
+
+fn simulate(drift: Option<Drift>, n: usize, seed: u64, p: Option<&Plan>) -> Trace {
+    let mut rng = sim::rng(seed);
+    let mut sensor = Sensor::new(&mut rng);
+    let mut t = Tracker::new(&Config {
+        drift,
+        ..Config::default()
+    })
+    .expect("valid default config");
+    let (mut x, mut y) = (0i64, 0i64);
+    let mut tr = Trace {
+        pos: Vec::with_capacity(n / 3 + 1),
+        moved: Vec::with_capacity(n / 3 + 1),
+    };
+    for i in 0..n {
+        let (ax, ay) = p.map_or((0.0, 0.0), |p| hand(p, i));
+        if let Some(p) = p {
+            if p.clicks.iter().any(|c| c.press == i || c.release == i) {
+                t.button_edge();
+            }
+        }
+        // Sensor y points away from the user: screen_motion maps it to cursor up.
+        let codes = sensor.codes([ax, ay, 0.0], &mut rng);
+        t.feed(&[codes]);
+        if i % 3 == 2 {
+            let (dx, dy) = screen_motion(t.take_counts());
+            x += i64::from(dx);
+            y -= i64::from(dy); // back to the sensor's frame: y away from the user
+            tr.pos.push((x, y));
+            tr.moved.push(i64::from(dx).abs() + i64::from(dy).abs());
+        }
+    }
+    tr
+}
+
+fn metrics(drift: Option<Drift>, strokes: usize, rest_minutes: f64, seed: u64) -> Metrics {
+    let mut rng = sim::rng(seed ^ 0xA11CE);
+    let p = plan(strokes, &mut rng);
+    let tr = simulate(drift, p.n, seed, Some(&p));
+    let at = |i: usize| tr.pos[(i / 3).min(tr.pos.len() - 1)];
+    let counts_per_m = CPI / 0.0254;
+    let (mut len_err, mut dir_err, mut start_lat, mut stop_lat) = (vec![], vec![], vec![], vec![]);
+    for (k, s) in p.strokes.iter().enumerate() {
+        let end = p.strokes.get(k + 1).map_or(p.n - 1, |n| n.start);
+        let (x0, y0) = at(s.start.saturating_sub(3));
+        let (x1, y1) = at(end - 3);
+        let (dx, dy) = ((x1 - x0) as f64, (y1 - y0) as f64);
+        let truth = s.distance_m * counts_per_m;
+        len_err.push(((dx.hypot(dy) - truth) / truth * 100.0).abs());
+        let d = (dy.atan2(dx) - s.dir).rem_euclid(std::f64::consts::TAU);
+        dir_err.push(d.min(std::f64::consts::TAU - d).to_degrees());
+        let polls = (s.start / 3)..(end / 3);
+        if let Some(first) = polls.clone().find(|&q| tr.moved[q] > 0) {
+            start_lat.push((first * 3).saturating_sub(s.start) as f64 / FS * 1e3);
+        }
+        if let Some(last) = polls.rev().find(|&q| tr.moved[q] > 0) {
+            let stroke_end = s.start + s.len;
+            stop_lat.push((last * 3).saturating_sub(stroke_end) as f64 / FS * 1e3);
+        }
+    }
+    let drag: i64 = p
+        .clicks
+        .iter()
+        .map(|c| {
+            tr.moved[c.press / 3..((c.release + (0.3 * FS) as usize) / 3).min(tr.moved.len())]
+                .iter()
+                .sum::<i64>()
+        })
+        .sum();
+    let rest_n = (1.0 + rest_minutes * 60.0) as usize * FS as usize;
+    let rest = simulate(drift, rest_n, seed ^ 0x5EA7, None);
+    let s = spread(start_lat);
+    let e = spread(stop_lat);
+    Metrics {
+        stationary_minutes: rest_minutes,
+        stationary_wander_counts: rest.moved.iter().sum(),
+        strokes: p.strokes.len(),
+        stroke_length_error_pct: spread(len_err),
+        direction_error_deg: spread(dir_err),
+        click_drag_counts: drag,
+        clicks: p.clicks.len(),
+        latency_ms: Latency {
+            start_median: s.median,
+            start_p90: s.p90,
+            stop_median: e.median,
+            stop_p90: e.p90,
+        },
+    }
+}
+
+/// Runs the desk scenes with and without drift control.
+pub fn run(strokes: usize, rest_minutes: f64, seed: u64) -> Report {
+    let (on, off) = rayon::join(
+        || metrics(Some(Drift::default()), strokes, rest_minutes, seed),
+        || metrics(None, strokes, rest_minutes, seed),
+    );
+    Report {
+        drift_control: on,
+        pure_integration: off,
+        seed,
+    }
+}
+
+/// The report as a table.
+pub fn table(r: &Report) -> String {
+    let row = |name: &str, m: &Metrics| {
+        format!(
+            "{:<20} {:>9} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8} {:>8.1} {:>8.1} {:>8.1} {:>8.1}\n",
+            name,
+            m.stationary_wander_counts,
+            m.stroke_length_error_pct.median,
+            m.stroke_length_error_pct.p90,
+            m.direction_error_deg.median,
+            m.direction_error_deg.p90,
+            m.click_drag_counts,
+            m.latency_ms.start_median,
+            m.latency_ms.start_p90,
+            m.latency_ms.stop_median,
+            m.latency_ms.stop_p90
+        )
+    };
+    let m = &r.drift_control;
+    format!(
+        "{} strokes, {} clicks, {} min at rest (seed {})\n{:<20} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}\n{}{}",
+        m.strokes,
+        m.clicks,
+        m.stationary_minutes,
+        r.seed,
+        "",
+        "wander",
+        "len% med",
+        "len% p90",
+        "dir° med",
+        "dir° p90",
+        "drag",
+        "start ms",
+        "p90",
+        "stop ms",
+        "p90",
+        row("drift control", &r.drift_control),
+        row("pure integration", &r.pure_integration)
+    )
+}
+
+/// One scene's true path and cursor path, as an SVG (x right, y away from the user).
+pub fn path_svg(strokes: usize, seed: u64) -> String {
+    let mut rng = sim::rng(seed ^ 0xA11CE);
+    let p = plan(strokes, &mut rng);
+    let on = simulate(Some(Drift::default()), p.n, seed, Some(&p));
+    let off = simulate(None, p.n, seed, Some(&p));
+    let counts_per_m = CPI / 0.0254;
+    let mut truth = vec![(0.0, 0.0)];
+    let (mut tx, mut ty) = (0.0, 0.0);
+    for s in &p.strokes {
+        tx += s.distance_m * counts_per_m * s.dir.cos();
+        ty += s.distance_m * counts_per_m * s.dir.sin();
+        truth.push((tx, ty));
+    }
+    let on_pts: Vec<(f64, f64)> = on
+        .pos
+        .iter()
+        .step_by(10)
+        .map(|&(x, y)| (x as f64, y as f64))
+        .collect();
+    let off_pts: Vec<(f64, f64)> = off
+        .pos
+        .iter()
+        .step_by(10)
+        .map(|&(x, y)| (x as f64, y as f64))
+        .collect();
+    let all = truth.iter().chain(&on_pts);
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in all {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    let span = (x1 - x0).max(y1 - y0).max(1.0) * 1.1;
+    let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    let size = 560.0;
+    let map = |x: f64, y: f64| {
+        (
+            40.0 + (x - cx + span / 2.0) / span * size,
+            60.0 + (cy - y + span / 2.0) / span * size,
+        )
+    };
+    let poly = |pts: &[(f64, f64)]| {
+        pts.iter()
+            .map(|&(x, y)| {
+                let (a, b) = map(x, y);
+                format!("{a:.1},{b:.1}")
+            })
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    // The pure integrator leaves the frame within seconds: draw what stays inside.
+    let off_in: Vec<(f64, f64)> = off_pts
+        .iter()
+        .copied()
+        .take_while(|&(x, y)| (x - cx).abs() < span / 2.0 && (y - cy).abs() < span / 2.0)
+        .collect();
+    format!(
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="640" height="680" viewBox="0 0 640 680" font-family="sans-serif" font-size="12">
+<rect width="640" height="680" fill="white"/>
+<text x="320" y="24" text-anchor="middle" font-size="15" font-weight="bold">{} strokes on a desk: the hand, and the cursor</text>
+<text x="320" y="44" text-anchor="middle">square frame {:.0} mm wide; counts at {} cpi</text>
+<rect x="40" y="60" width="{size}" height="{size}" fill="none" stroke="#333"/>
+<polyline points="{}" fill="none" stroke="#999" stroke-width="3"/>
+<polyline points="{}" fill="none" stroke="#d62728" stroke-width="1.2" stroke-dasharray="4,3"/>
+<polyline points="{}" fill="none" stroke="#1f77b4" stroke-width="1.5"/>
+<line x1="60" y1="640" x2="90" y2="640" stroke="#999" stroke-width="3"/><text x="96" y="644">hand (true strokes)</text>
+<line x1="250" y1="640" x2="280" y2="640" stroke="#1f77b4" stroke-width="1.5"/><text x="286" y="644">cursor, drift control</text>
+<line x1="440" y1="640" x2="470" y2="640" stroke="#d62728" stroke-dasharray="4,3"/><text x="476" y="644">pure integration</text>
+</svg>
+"##,
+        p.strokes.len(),
+        span / counts_per_m * 1e3,
+        CPI,
+        poly(&truth),
+        poly(&off_in),
+        poly(&on_pts)
+    )
+}
