@@ -1,7 +1,10 @@
 //! imu-mouse host side: the f64 reference formulas, f64 twins of the core's stages,
 //! simulated sensors, Monte Carlo statistics, and the `lab` CLI's commands.
 
+pub mod allan;
 pub mod budget;
+pub mod columns;
+pub mod drift;
 pub mod hid;
 pub mod montecarlo;
 pub mod mouse;

@@ -3,7 +3,10 @@
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use host_tests::{budget, hid, mouse, predict, recording, reproduce, scene, speed, track};
+use host_tests::{
+    allan, budget, columns, drift, hid, mouse, plot, predict, recording, reproduce, scene, speed,
+    track,
+};
 
 #[derive(Parser)]
 #[command(
@@ -33,6 +36,55 @@ enum Command {
     Speed(SpeedArgs),
     /// The mouse on a desk: strokes, rests, clicks, with and without drift control.
     Mouse(MouseArgs),
+    /// Overlapping Allan deviation of a recording, and the noise figures read from it.
+    Allan(AllanArgs),
+    /// The paper's experiment on a recording: calibrate, integrate, RMS over segments.
+    Drift(DriftArgs),
+}
+
+#[derive(Args, Clone)]
+struct RecordingArgs {
+    /// The CSV file (a header row; metadata lines before it are skipped).
+    file: std::path::PathBuf,
+    /// Columns to analyse, by header name.
+    #[arg(long, value_delimiter = ',', required = true)]
+    columns: Vec<String>,
+    /// Sampling rate [Hz] (else a time column or an `fs,<Hz>` metadata line).
+    #[arg(long)]
+    fs: Option<f64>,
+    /// A time column [s] to take the rate from (gaps and jitter are reported).
+    #[arg(long)]
+    time_column: Option<String>,
+    /// Values are raw counts of this many m/s^2 each.
+    #[arg(long, conflicts_with = "units")]
+    scale: Option<f64>,
+    /// Values are already in `g` or `m_s2`.
+    #[arg(long)]
+    units: Option<String>,
+    /// Directory for the plot.
+    #[arg(long, default_value = "target/lab/recording")]
+    out: std::path::PathBuf,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct AllanArgs {
+    #[command(flatten)]
+    rec: RecordingArgs,
+}
+
+#[derive(Args)]
+struct DriftArgs {
+    #[command(flatten)]
+    rec: RecordingArgs,
+    /// Calibration window at the start of each segment [s].
+    #[arg(long)]
+    calibrate_s: f64,
+    /// Integration times [s], comma separated.
+    #[arg(long = "t", value_delimiter = ',', required = true)]
+    t: Vec<f64>,
 }
 
 #[derive(Args)]
@@ -90,6 +142,10 @@ struct SimulateArgs {
     /// Print JSON instead of the table.
     #[arg(long)]
     json: bool,
+    /// Also write the codes as a recording (`fs,<Hz>` line, `n,x,y,z` header), for
+    /// `cargo lab allan` / `drift` / `replay`.
+    #[arg(long)]
+    csv: Option<std::path::PathBuf>,
 }
 
 #[derive(Args)]
@@ -199,6 +255,8 @@ fn main() -> ExitCode {
         Command::Replay(a) => run_replay(&a),
         Command::Speed(a) => run_speed(&a),
         Command::Mouse(a) => run_mouse(&a),
+        Command::Allan(a) => run_allan(&a.rec).map(|x| x.0),
+        Command::Drift(a) => run_drift(&a),
     };
     match result {
         Ok(text) => {
@@ -296,8 +354,18 @@ fn run_simulate(a: &SimulateArgs) -> Result<String, String> {
     let seconds = positive("seconds", a.seconds)?;
     let every = positive("every", a.every)?;
     let config = sc.config();
-    let t =
-        track::run(&config, sc.three_axes(seconds, a.seed), every).map_err(|e| e.to_string())?;
+    let samples = sc.three_axes(seconds, a.seed);
+    if let Some(path) = &a.csv {
+        let mut csv = format!(
+            "# cargo lab simulate --scene {} --seconds {seconds} --seed {}\nfs,{}\nn,x,y,z\n",
+            sc.name, a.seed, sc.fs
+        );
+        for (i, s) in samples.iter().enumerate() {
+            csv += &format!("{i},{},{},{}\n", s[0], s[1], s[2]);
+        }
+        std::fs::write(path, csv).map_err(|e| format!("--csv {}: {e}", path.display()))?;
+    }
+    let t = track::run(&config, samples, every).map_err(|e| e.to_string())?;
     let mut header = format!("scene {}: {}\n", sc.name, sc.about);
     let d = sc.stroke_distance_m();
     if d != 0.0 {
@@ -373,4 +441,185 @@ fn run_mouse(a: &MouseArgs) -> Result<String, String> {
     } else {
         Ok(format!("{}plot: {}", mouse::table(&report), path.display()))
     }
+}
+
+fn read_recording(r: &RecordingArgs) -> Result<columns::Data, String> {
+    let units = match (r.scale, r.units.as_deref()) {
+        (Some(s), _) => columns::Units::Counts(s),
+        (None, Some("g")) => columns::Units::G,
+        (None, Some("m_s2")) => columns::Units::MS2,
+        (None, Some(u)) => return Err(format!("--units {u}: `g` or `m_s2`")),
+        (None, None) => {
+            return Err("give --scale M_S2_PER_COUNT for raw counts, or --units g|m_s2".into())
+        }
+    };
+    let text =
+        std::fs::read_to_string(&r.file).map_err(|e| format!("{}: {e}", r.file.display()))?;
+    columns::read(
+        &text,
+        &columns::Options {
+            columns: r.columns.clone(),
+            fs: r.fs,
+            time_column: r.time_column.clone(),
+            units,
+        },
+    )
+    .map_err(|e| format!("{}: {e}", r.file.display()))
+}
+
+const COLORS: [&str; 6] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b",
+];
+
+fn run_allan(r: &RecordingArgs) -> Result<(String, Vec<allan::Figures>), String> {
+    let d = read_recording(r)?;
+    if d.m_s2[0].len() < 4 {
+        return Err(format!(
+            "{}: {} samples; the Allan deviation needs at least 4",
+            r.file.display(),
+            d.m_s2[0].len()
+        ));
+    }
+    let mut axes = serde_json::Map::new();
+    let mut figs = vec![];
+    let mut text = format!(
+        "{}: {} samples at {} Hz (from {}); {}\n",
+        r.file.display(),
+        d.m_s2[0].len(),
+        d.fs,
+        d.fs_source,
+        if d.notes.is_empty() {
+            "no gaps or jitter".to_string()
+        } else {
+            d.notes.join("; ")
+        }
+    );
+    let mut p = plot::Plot {
+        title: "Overlapping Allan deviation".into(),
+        x_label: "tau [s]".into(),
+        y_label: "Allan deviation [m/s^2]".into(),
+        ..Default::default()
+    };
+    for (k, (name, y)) in d.names.iter().zip(&d.m_s2).enumerate() {
+        let a = allan::oadev(y, d.fs);
+        let f = allan::figures(&a).ok_or("too few taus for the noise figures")?;
+        text += &format!(
+            "{name}: N_v (VRW) {:.4e} m/s/sqrt(s) = {:.4e} m/s/sqrt(h); ND (one-sided) {:.4e} m/s^2/sqrt(Hz) = {:.0} ug/sqrt(Hz); bias instability {:.4e} m/s^2 = {:.1} ug at tau {} s\n",
+            f.vrw_m_s_rts,
+            60.0 * f.vrw_m_s_rts,
+            f.noise_density_m_s2_rthz,
+            f.noise_density_m_s2_rthz / 9.806_65e-6,
+            f.bias_instability_m_s2,
+            f.bias_instability_m_s2 / 9.806_65e-6,
+            f.tau_min_s
+        );
+        let color = COLORS[k % COLORS.len()];
+        p.points.push(plot::Points {
+            label: name.to_string(),
+            color,
+            pts: a
+                .taus_s
+                .iter()
+                .zip(&a.adev)
+                .zip(&a.n)
+                .map(|((&t, &s), &n)| {
+                    // 1-sigma-ish band from the number of independent differences (n / m).
+                    let e = s / ((n as f64) / (t * d.fs)).max(1.0).sqrt();
+                    (t, s, (s - e).max(s * 0.1), s + e)
+                })
+                .collect(),
+        });
+        p.lines.push(plot::Line {
+            label: format!("{name}: N_v / sqrt(tau)"),
+            color,
+            dashed: true,
+            pts: a
+                .taus_s
+                .iter()
+                .map(|&t| (t, f.vrw_m_s_rts / t.sqrt()))
+                .collect(),
+        });
+        axes.insert(
+            name.clone(),
+            serde_json::json!({
+                "taus_s": a.taus_s,
+                "adev_m_s2": a.adev,
+                "noise_density_m_s2_rthz": f.noise_density_m_s2_rthz,
+                "vrw_m_s_rts": f.vrw_m_s_rts,
+                "bias_instability_m_s2": f.bias_instability_m_s2,
+            }),
+        );
+        figs.push(f);
+    }
+    std::fs::create_dir_all(&r.out).map_err(|e| format!("--out {}: {e}", r.out.display()))?;
+    let path = r.out.join("allan.svg");
+    std::fs::write(&path, p.to_svg()).map_err(|e| format!("{}: {e}", path.display()))?;
+    text += &format!("conventions: sigma(tau) = N_v / sqrt(tau) on the white part; ND = sqrt(2) N_v (one-sided); B = min / 0.664\nplot: {}", path.display());
+    if r.json {
+        let json = serde_json::json!({ "axes": axes, "fs": d.fs });
+        return Ok((
+            serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?,
+            figs,
+        ));
+    }
+    Ok((text, figs))
+}
+
+fn run_drift(a: &DriftArgs) -> Result<String, String> {
+    let Some(scale) = a.rec.scale else {
+        return Err(
+            "--scale: the drift experiment runs the core on raw counts; give their scale".into(),
+        );
+    };
+    positive("calibrate-s", a.calibrate_s)?;
+    for &t in &a.t {
+        positive("t", t)?;
+    }
+    let d = read_recording(&a.rec)?;
+    let figs = {
+        let quiet = RecordingArgs {
+            json: false,
+            ..a.rec.clone()
+        };
+        run_allan(&quiet)?.1
+    };
+    let rows = drift::experiment(&d.names, &d.raw, d.fs, scale, a.calibrate_s, &a.t, &figs)?;
+    let mut p = plot::Plot {
+        title: format!(
+            "Position error after a {} s calibration: measured and predicted",
+            a.calibrate_s
+        ),
+        x_label: "T [s]".into(),
+        y_label: "RMS position error [m]".into(),
+        ..Default::default()
+    };
+    for (k, name) in d.names.iter().enumerate() {
+        let color = COLORS[k % COLORS.len()];
+        let mine: Vec<&drift::Row> = rows.iter().filter(|r| &r.axis == name).collect();
+        p.points.push(plot::Points {
+            label: format!("{name}: measured, 95 %"),
+            color,
+            pts: mine
+                .iter()
+                .map(|r| (r.t_s, r.measured_m, r.ci_low_m, r.ci_high_m))
+                .collect(),
+        });
+        p.lines.push(plot::Line {
+            label: format!("{name}: predicted from the Allan figures"),
+            color,
+            dashed: false,
+            pts: mine.iter().map(|r| (r.t_s, r.predicted_m)).collect(),
+        });
+    }
+    std::fs::create_dir_all(&a.rec.out)
+        .map_err(|e| format!("--out {}: {e}", a.rec.out.display()))?;
+    let path = a.rec.out.join("drift.svg");
+    std::fs::write(&path, p.to_svg()).map_err(|e| format!("{}: {e}", path.display()))?;
+    if a.rec.json {
+        return serde_json::to_string_pretty(
+            &serde_json::json!({ "rows": rows, "calibrate_s": a.calibrate_s }),
+        )
+        .map_err(|e| e.to_string());
+    }
+    Ok(format!("{}plot: {}", drift::table(&rows), path.display()))
 }

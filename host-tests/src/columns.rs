@@ -1,0 +1,301 @@
+//! Reading recordings for `cargo lab allan` and `cargo lab drift`: a CSV with a header row,
+//! columns chosen by name.
+//!
+//! # Format
+//! - Lines before the header are metadata and are skipped; a metadata line `fs,<Hz>`
+//!   (any case) gives the sampling rate. Blank lines and lines starting with `#` are skipped
+//!   everywhere.
+//! - The header is the first line whose fields are all names (none is a number) and which
+//!   holds every requested column.
+//! - Every data row has as many fields as the header; the requested columns are numbers.
+//! - The sampling rate: `--fs`, else a time column (`--time-column NAME`, seconds), else the
+//!   `fs` metadata line. A time column's steps are checked: gaps (a step over 1.5x the
+//!   median) and jitter (a step more than 1 % off the median) are counted and reported.
+//! - Units: `--scale M_S2_PER_LSB` for raw counts, or `--units g` / `--units m_s2`.
+//!
+//! Every problem is an error naming the line; nothing panics.
+
+use crate::recording::RecordingError;
+
+/// How the values become m/s^2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Units {
+    /// Raw counts times this scale [m/s^2 per count].
+    Counts(f64),
+    /// Standard gravities.
+    G,
+    /// Already m/s^2.
+    MS2,
+}
+
+/// What to read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// Column names, in order.
+    pub columns: Vec<String>,
+    /// Sampling rate [Hz], if given.
+    pub fs: Option<f64>,
+    /// Name of a time column [s], if any.
+    pub time_column: Option<String>,
+    /// Units of the values.
+    pub units: Units,
+}
+
+/// The columns read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Data {
+    /// Column names.
+    pub names: Vec<String>,
+    /// Values as read (counts, g or m/s^2), one vector per column.
+    pub raw: Vec<Vec<f64>>,
+    /// Values in m/s^2.
+    pub m_s2: Vec<Vec<f64>>,
+    /// Sampling rate [Hz].
+    pub fs: f64,
+    /// Where the rate came from.
+    pub fs_source: &'static str,
+    /// Findings about the time column (gaps, jitter), for the report.
+    pub notes: Vec<String>,
+}
+
+fn err<T>(line: usize, problem: impl Into<String>) -> Result<T, RecordingError> {
+    Err(RecordingError {
+        line,
+        problem: problem.into(),
+    })
+}
+
+fn is_number(s: &str) -> bool {
+    s.parse::<f64>().is_ok()
+}
+
+/// Reads `text`.
+///
+/// # Errors
+/// The first problem, with its line.
+pub fn read(text: &str, o: &Options) -> Result<Data, RecordingError> {
+    if o.columns.is_empty() {
+        return err(0, "--columns: name at least one column");
+    }
+    let mut fs_meta = None;
+    let mut header: Option<(usize, Vec<String>)> = None;
+    let mut rows: Vec<(usize, Vec<&str>)> = vec![];
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let l = raw.trim();
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = l.split(',').map(str::trim).collect();
+        match &header {
+            Some((_, h)) => {
+                if fields.len() != h.len() {
+                    return err(
+                        line,
+                        format!("{} fields, the header has {}", fields.len(), h.len()),
+                    );
+                }
+                rows.push((line, fields));
+            }
+            None => {
+                let all_names = fields.iter().all(|f| !f.is_empty() && !is_number(f));
+                let has_all = o.columns.iter().all(|c| fields.contains(&c.as_str()));
+                if all_names && has_all {
+                    header = Some((line, fields.iter().map(|f| f.to_string()).collect()));
+                } else if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") {
+                    match fields[1].parse::<f64>() {
+                        Ok(v) if v.is_finite() && v > 0.0 => fs_meta = Some(v),
+                        _ => {
+                            return err(
+                                line,
+                                format!("`{l}`: the sampling rate must be a number > 0"),
+                            )
+                        }
+                    }
+                } else if all_names && fields.len() > 2 {
+                    let missing: Vec<&str> = o
+                        .columns
+                        .iter()
+                        .map(String::as_str)
+                        .filter(|c| !fields.contains(c))
+                        .collect();
+                    return err(
+                        line,
+                        format!("the header `{l}` has no column {}", missing.join(", ")),
+                    );
+                }
+            }
+        }
+    }
+    let Some((hline, h)) = header else {
+        return err(0, format!("no header row naming {}", o.columns.join(", ")));
+    };
+    if rows.is_empty() {
+        return err(hline, "a header and no data rows");
+    }
+    let index = |name: &str| h.iter().position(|x| x == name);
+    let idx: Vec<usize> = o.columns.iter().filter_map(|c| index(c)).collect();
+    let t_idx = match &o.time_column {
+        Some(t) => Some(index(t).ok_or_else(|| RecordingError {
+            line: hline,
+            problem: format!("--time-column {t}: not in the header"),
+        })?),
+        None => None,
+    };
+    let mut raw = vec![Vec::with_capacity(rows.len()); idx.len()];
+    let mut times = vec![];
+    for (line, f) in &rows {
+        for (k, &c) in idx.iter().enumerate() {
+            match f[c].parse::<f64>() {
+                Ok(v) if v.is_finite() => raw[k].push(v),
+                _ => return err(*line, format!("{} = `{}` is not a number", h[c], f[c])),
+            }
+        }
+        if let Some(t) = t_idx {
+            match f[t].parse::<f64>() {
+                Ok(v) if v.is_finite() => times.push((*line, v)),
+                _ => return err(*line, format!("time `{}` is not a number", f[t])),
+            }
+        }
+    }
+    let mut notes = vec![];
+    let fs_time = if times.len() >= 2 {
+        let mut steps: Vec<(usize, f64)> = times
+            .windows(2)
+            .map(|w| (w[1].0, w[1].1 - w[0].1))
+            .collect();
+        if let Some(&(line, dt)) = steps.iter().find(|s| s.1 <= 0.0) {
+            return err(line, format!("time does not increase (step {dt} s)"));
+        }
+        let mut sorted: Vec<f64> = steps.iter().map(|s| s.1).collect();
+        sorted.sort_by(f64::total_cmp);
+        let median = sorted[sorted.len() / 2];
+        let gaps: Vec<usize> = steps
+            .iter()
+            .filter(|s| s.1 > 1.5 * median)
+            .map(|s| s.0)
+            .collect();
+        steps.retain(|s| s.1 <= 1.5 * median && (s.1 - median).abs() > 0.01 * median);
+        if let Some(first) = gaps.first() {
+            notes.push(format!("{} gap(s) in the time column (steps over 1.5x the median {median} s), the first at line {first}", gaps.len()));
+        }
+        if let Some(first) = steps.first() {
+            notes.push(format!(
+                "{} step(s) jitter by more than 1 % of the median, the first at line {}",
+                steps.len(),
+                first.0
+            ));
+        }
+        Some(1.0 / median)
+    } else {
+        None
+    };
+    let (fs, fs_source) = match (o.fs, fs_time, fs_meta) {
+        (Some(f), _, _) => (f, "--fs"),
+        (None, Some(f), _) => (f, "the time column"),
+        (None, None, Some(f)) => (f, "the fs metadata line"),
+        (None, None, None) => {
+            return err(
+                0,
+                "no sampling rate: give --fs, --time-column, or an `fs,<Hz>` line",
+            )
+        }
+    };
+    if !(fs.is_finite() && fs > 0.0) {
+        return err(0, format!("sampling rate {fs} Hz: must be > 0"));
+    }
+    let factor = match o.units {
+        Units::Counts(s) if s.is_finite() && s > 0.0 => s,
+        Units::Counts(s) => return err(0, format!("--scale {s}: must be a finite number > 0")),
+        Units::G => 9.806_65,
+        Units::MS2 => 1.0,
+    };
+    let m_s2 = raw
+        .iter()
+        .map(|c| c.iter().map(|v| v * factor).collect())
+        .collect();
+    Ok(Data {
+        names: o.columns.clone(),
+        raw,
+        m_s2,
+        fs,
+        fs_source,
+        notes,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn opts(cols: &[&str]) -> Options {
+        Options {
+            columns: cols.iter().map(|s| s.to_string()).collect(),
+            fs: None,
+            time_column: None,
+            units: Units::Counts(0.5),
+        }
+    }
+
+    #[track_caller]
+    fn fails(text: &str, o: &Options, line: usize, words: &str) {
+        let e = read(text, o).expect_err("malformed");
+        assert_eq!(e.line, line, "{e}");
+        assert!(e.problem.contains(words), "{e}");
+    }
+
+    #[test]
+    fn reads_the_recordings_layout() {
+        let text = "Fs,100\nLogging Type,1\nax,ay,az,gx\n1,2,3,4\n5,6,7,8\n";
+        let d = read(text, &opts(&["az", "ax"])).expect("valid");
+        assert_eq!(d.fs, 100.0);
+        assert_eq!(d.fs_source, "the fs metadata line");
+        assert_eq!(d.raw, vec![vec![3.0, 7.0], vec![1.0, 5.0]]);
+        assert_eq!(d.m_s2[0], vec![1.5, 3.5]);
+    }
+
+    #[test]
+    fn malformed_and_edge_case_files_name_the_problem() {
+        let o = opts(&["ax"]);
+        fails("", &o, 0, "no header row");
+        fails("fs,100\nax,ay\n", &o, 2, "no data rows");
+        fails("fs,100\nax,ay\n1,x\n2,3\n", &opts(&["ay"]), 3, "ay = `x`");
+        fails(
+            "fs,100\nax,ay\n1,2\n3\n",
+            &o,
+            4,
+            "1 fields, the header has 2",
+        );
+        fails("fs,100\nbx,by,bz\n1,2,3\n", &o, 2, "no column ax");
+        fails("ax,ay\n1,2\n", &o, 0, "no sampling rate");
+        fails("fs,-1\nax\n1\n", &o, 1, "must be a number > 0");
+        let mut t = opts(&["ax"]);
+        t.time_column = Some("t".into());
+        fails("t,ax\n0,1\n0,2\n", &t, 3, "does not increase");
+        fails(
+            "fs,10\nax\n1\n",
+            &Options {
+                units: Units::Counts(-1.0),
+                ..opts(&["ax"])
+            },
+            0,
+            "--scale -1",
+        );
+        // A single sample is a valid file (the commands say what they need).
+        assert_eq!(read("fs,10\nax\n1\n", &o).map(|d| d.raw[0].len()), Ok(1));
+    }
+
+    #[test]
+    fn time_column_gives_the_rate_and_reports_gaps_and_jitter() {
+        let mut o = opts(&["ax"]);
+        o.time_column = Some("t".into());
+        o.units = Units::G;
+        let text = "t,ax\n0.00,1\n0.01,1\n0.02,1\n0.05,1\n0.0605,1\n0.07,1\n";
+        let d = read(text, &o).expect("valid");
+        assert!((d.fs - 100.0).abs() < 1e-9);
+        assert_eq!(d.notes.len(), 2, "{:?}", d.notes);
+        assert!(d.notes[0].contains("1 gap(s)") && d.notes[0].contains("line 5"));
+        assert!(d.notes[1].contains("jitter"));
+        assert!((d.m_s2[0][0] - 9.806_65).abs() < 1e-12);
+    }
+}

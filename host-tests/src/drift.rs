@@ -1,0 +1,173 @@
+//! `cargo lab drift`: the paper's experiment on a recording. The recording is cut into
+//! independent segments; in each, the core's calibration estimates the bias over the first
+//! `TC` seconds and the core's pipeline (pure double integration, as in the paper)
+//! integrates the next `T`. The RMS of the positions over segments, with its 95 % interval,
+//! is the measured error. Beside it, the error predicted from the Allan figures alone:
+//!
+//! ```text
+//! white noise (eq 27):              N_v T^1.5 / sqrt(3)
+//! the calibration's own bias error: (N_v / sqrt(TC)) T^2 / 2   (the mean of TC s of white noise)
+//! bias instability, growing as T^2:  B T^2 / 2
+//! predicted = the three in quadrature
+//! ```
+
+use imu_core::{AdcCode, Axis, Config};
+use serde::Serialize;
+
+use crate::allan::Figures;
+use crate::stats::MeanSquare;
+
+/// One row: one axis at one T.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Row {
+    /// Column name.
+    pub axis: String,
+    /// Integration time [s].
+    pub t_s: f64,
+    /// Segments measured.
+    pub segments: usize,
+    /// RMS position over segments [m].
+    pub measured_m: f64,
+    /// 95 % interval [m].
+    pub ci_low_m: f64,
+    /// 95 % interval [m].
+    pub ci_high_m: f64,
+    /// Predicted RMS [m].
+    pub predicted_m: f64,
+    /// Its white-noise part [m].
+    pub white_m: f64,
+    /// Its calibration-bias part [m].
+    pub calibration_m: f64,
+    /// Its bias-instability part [m].
+    pub instability_m: f64,
+    /// z-score of the prediction (normal approximation: rough with few segments).
+    pub z: f64,
+}
+
+/// Runs the experiment on counts `raw` (one vector per axis) at `fs` with `scale`
+/// [m/s^2 per count].
+///
+/// # Errors
+/// A message naming the argument that makes the experiment impossible.
+pub fn experiment(
+    names: &[String],
+    raw: &[Vec<f64>],
+    fs: f64,
+    scale: f64,
+    calibrate_s: f64,
+    ts: &[f64],
+    figures: &[Figures],
+) -> Result<Vec<Row>, String> {
+    let fs_hz = fs.round();
+    if (fs - fs_hz).abs() > 1e-9 * fs {
+        return Err(format!(
+            "sampling rate {fs} Hz: the core needs a whole number of Hz"
+        ));
+    }
+    let t_max = ts.iter().copied().fold(0.0, f64::max);
+    let cal_n = (calibrate_s * fs).round() as usize;
+    let seg = cal_n + (t_max * fs).round() as usize;
+    let n = raw.first().map_or(0, Vec::len);
+    let segments = n / seg.max(1);
+    if segments < 2 {
+        return Err(format!(
+            "--calibrate-s {calibrate_s} and --t up to {t_max}: a segment is {} s, and the recording ({:.1} s) holds {segments}; at least 2 are needed",
+            seg as f64 / fs,
+            n as f64 / fs
+        ));
+    }
+    let config = Config {
+        fs_hz: fs_hz as u32,
+        m_s2_per_lsb: scale,
+        adc_bits: 16,
+        calibration_s: calibrate_s,
+        rest_noise_max_m_s2: scale * 1e6,
+        drift: None,
+        ..Config::default()
+    };
+    let settings = config.validate().map_err(|e| e.to_string())?;
+    let signed = raw.iter().flatten().any(|&v| v < 0.0);
+    let offset = if signed { 32_768.0 } else { 0.0 };
+    let to_code = |v: f64| -> Result<AdcCode, String> {
+        let c = (v + offset).round();
+        if (0.0..=65_535.0).contains(&c) {
+            Ok(AdcCode(c as u16))
+        } else {
+            Err(format!("value {v} does not fit a 16-bit code"))
+        }
+    };
+    let steps: Vec<usize> = ts.iter().map(|&t| (t * fs).round() as usize).collect();
+    let mut rows = vec![];
+    for (k, (name, col)) in names.iter().zip(raw).enumerate() {
+        let mut pos = vec![vec![]; ts.len()];
+        for s in 0..segments {
+            let chunk = &col[s * seg..(s + 1) * seg];
+            let mut cal = settings.calibrator();
+            for &v in &chunk[..cal_n] {
+                cal.push(to_code(v)?);
+            }
+            let Ok(c) = cal.finish() else { continue };
+            let mut axis = Axis::new(c.bias_q16);
+            for (i, &v) in chunk[cal_n..].iter().enumerate() {
+                axis.update(&settings, to_code(v)?);
+                for (j, &st) in steps.iter().enumerate() {
+                    if i + 1 == st {
+                        pos[j].push(
+                            axis.integrator().position() as f64
+                                * settings.metres_per_position_unit(),
+                        );
+                    }
+                }
+            }
+        }
+        let f = &figures[k];
+        for (j, &t) in ts.iter().enumerate() {
+            let ms = MeanSquare::of(&pos[j]);
+            let white = f.vrw_m_s_rts * t.powf(1.5) / 3f64.sqrt();
+            let calibration = f.vrw_m_s_rts / calibrate_s.sqrt() * t * t / 2.0;
+            let instability = f.bias_instability_m_s2 * t * t / 2.0;
+            let predicted =
+                (white * white + calibration * calibration + instability * instability).sqrt();
+            let (lo, hi) = ms.ci95();
+            rows.push(Row {
+                axis: name.clone(),
+                t_s: t,
+                segments: pos[j].len(),
+                measured_m: ms.rms(),
+                ci_low_m: lo,
+                ci_high_m: hi,
+                predicted_m: predicted,
+                white_m: white,
+                calibration_m: calibration,
+                instability_m: instability,
+                z: ms.z(predicted),
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// The rows as a table.
+pub fn table(rows: &[Row]) -> String {
+    let mut out = format!(
+        "{:<6} {:>7} {:>5} {:>11} {:>23} {:>11} {:>10} {:>10} {:>10} {:>7}\n",
+        "axis",
+        "T [s]",
+        "segs",
+        "measured",
+        "95 % interval",
+        "predicted",
+        "white",
+        "calib",
+        "instab",
+        "z"
+    );
+    for r in rows {
+        out += &format!(
+            "{:<6} {:>7} {:>5} {:>11.3e} [{:>9.3e}, {:>9.3e}] {:>11.3e} {:>10.2e} {:>10.2e} {:>10.2e} {:>+7.2}\n",
+            r.axis, r.t_s, r.segments, r.measured_m, r.ci_low_m, r.ci_high_m, r.predicted_m, r.white_m, r.calibration_m, r.instability_m, r.z
+        );
+    }
+    out += "RMS position error [m] of pure double integration after calibration, over independent segments.\n";
+    out
+}
