@@ -72,8 +72,8 @@ fn the_real_recording_has_the_noise_its_readme_states() {
         .iter()
         .map(|y| figures(&oadev(y, d.fs)).expect("figures"))
         .collect();
-    for k in 0..3 {
-        let nd = ug(f[k].noise_density_m_s2_rthz);
+    for (k, fig) in f.iter().enumerate() {
+        let nd = ug(fig.noise_density_m_s2_rthz);
         assert!((400.0..700.0).contains(&nd), "axis {k}: {nd} ug/sqrt(Hz)");
     }
     // z drifts: its bias instability is well above x's and y's.
