@@ -2,17 +2,14 @@
 //! follows slow drift, and a click does not drag the cursor. Each has a control with drift
 //! control off (or the freeze off) that does move.
 
+use imu_core::testsignal::Trace;
 use imu_core::{Config, ConfigError, Drift, DriftError, Tracker};
 
-/// SplitMix64, for deterministic noise.
-struct Noise(u64);
+/// Deterministic noise from the core's SplitMix64 trace generator.
+struct Noise(Trace);
 impl Noise {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     /// A code around `mid` with zero-mean noise in -2..=2 LSB (variance 1 LSB^2).
     fn code(&mut self, mid: u16) -> u16 {
@@ -28,7 +25,7 @@ fn tracker(drift: Option<Drift>) -> Tracker {
         ..Config::default()
     })
     .expect("valid");
-    let mut n = Noise(1);
+    let mut n = Noise(Trace::new(1));
     let cal: Vec<[u16; 3]> = (0..3000)
         .map(|_| [n.code(2048), n.code(2048), n.code(2048)])
         .collect();
@@ -54,8 +51,8 @@ fn run(t: &mut Tracker, n: usize, mut f: impl FnMut(usize) -> [u16; 3]) -> [i64;
 fn ten_minutes_at_rest_send_no_count() {
     let mut on = tracker(Some(Drift::default()));
     let mut off = tracker(None);
-    let mut n1 = Noise(7);
-    let mut n2 = Noise(7);
+    let mut n1 = Noise(Trace::new(7));
+    let mut n2 = Noise(Trace::new(7));
     let minutes10 = 10 * 60 * 3000;
     let a = run(&mut on, minutes10, |_| {
         [n1.code(2048), n1.code(2048), n1.code(2048)]
@@ -115,7 +112,7 @@ fn the_bias_follows_slow_drift_at_rest() {
         let mid = if i * 2 > 60 * 3000 { 2049 } else { 2048 };
         [n.code(mid), n.code(2048), n.code(2048)]
     };
-    let (mut n1, mut n2) = (Noise(3), Noise(3));
+    let (mut n1, mut n2) = (Noise(Trace::new(3)), Noise(Trace::new(3)));
     let a = run(&mut on, 120 * 3000, |i| drift(i, &mut n1));
     let b = run(&mut off, 120 * 3000, |i| drift(i, &mut n2));
     assert_eq!(a, [0, 0, 0]);

@@ -1,16 +1,13 @@
 //! The report scheduler under random motion and random USB refusals.
 
 use imu_core::hid::{buttons, MouseReport, Reporter, MAX_COUNTS_PER_REPORT};
+use imu_core::testsignal::Trace;
 
-/// A small deterministic generator (SplitMix64) for test inputs.
-struct Gen(u64);
+/// A small deterministic generator for test inputs (the core's SplitMix64 trace).
+struct Gen(Trace);
 impl Gen {
     fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     fn range(&mut self, lo: i32, hi: i32) -> i32 {
         lo + (self.next() % (hi - lo + 1) as u64) as i32
@@ -19,7 +16,7 @@ impl Gen {
 
 #[test]
 fn every_count_arrives_even_when_pushes_fail() {
-    let mut g = Gen(7);
+    let mut g = Gen(Trace::new(7));
     let mut r = Reporter::default();
     let (mut moved, mut received) = ([0i64; 2], [0i64; 2]);
     for _ in 0..200_000 {
@@ -52,7 +49,7 @@ fn clamped_reports_point_the_way_the_hand_moved() {
     // A clamped report has its larger axis at exactly 127 and only the smaller one rounded
     // (by at most 0.5 count), so its direction is within 0.5 / 127 rad (0.23 degrees) of the
     // motion owed: d(theta) = x d(y) / (x^2 + y^2) <= 0.5 * 127 / 127^2.
-    let mut g = Gen(11);
+    let mut g = Gen(Trace::new(11));
     for _ in 0..20_000 {
         let mut r = Reporter::default();
         let (dx, dy) = (g.range(-100_000, 100_000), g.range(-100_000, 100_000));

@@ -15,7 +15,7 @@
 //!
 //! Every problem is an error naming the line; nothing panics.
 
-use crate::recording::RecordingError;
+use crate::recording::{err, RecordingError};
 
 /// How the values become m/s^2.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -56,13 +56,6 @@ pub struct Data {
     pub fs_source: &'static str,
     /// Findings about the time column (gaps, jitter), for the report.
     pub notes: Vec<String>,
-}
-
-fn err<T>(line: usize, problem: impl Into<String>) -> Result<T, RecordingError> {
-    Err(RecordingError {
-        line,
-        problem: problem.into(),
-    })
 }
 
 fn is_number(s: &str) -> bool {

@@ -43,7 +43,8 @@ impl fmt::Display for RecordingError {
     }
 }
 
-fn err<T>(line: usize, problem: impl Into<String>) -> Result<T, RecordingError> {
+/// An error at `line` (0: the file as a whole).
+pub(crate) fn err<T>(line: usize, problem: impl Into<String>) -> Result<T, RecordingError> {
     Err(RecordingError {
         line,
         problem: problem.into(),

@@ -54,6 +54,37 @@ pub struct Params {
     pub bias: Option<f64>,
 }
 
+impl Params {
+    /// White noise of per-sample std `sigma_d` [m/s^2].
+    pub fn white(fs: f64, t: f64, sigma_d: f64) -> Self {
+        Self {
+            fs,
+            t,
+            sigma_d: Some(sigma_d),
+            ..Self::default()
+        }
+    }
+    /// Density `sigma_c` [m/s^2/sqrt(Hz)] into a single pole at `fc` [Hz].
+    pub fn filtered(fs: f64, t: f64, sigma_c: f64, fc: f64) -> Self {
+        Self {
+            fs,
+            t,
+            sigma_c: Some(sigma_c),
+            fc: Some(fc),
+            ..Self::default()
+        }
+    }
+    /// A constant bias [m/s^2].
+    pub fn bias(fs: f64, t: f64, bias: f64) -> Self {
+        Self {
+            fs,
+            t,
+            bias: Some(bias),
+            ..Self::default()
+        }
+    }
+}
+
 /// One row of the reproduction table.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Row {
@@ -356,12 +387,7 @@ fn white_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
         &white_scene(4.0, 100.0),
         bar,
     );
-    let white = |t: f64| Params {
-        fs: 100.0,
-        t,
-        sigma_d: Some(sd),
-        ..Params::default()
-    };
+    let white = |t: f64| Params::white(100.0, t, sd);
     let mut rows = vec![];
     for (i, &n) in ns.iter().enumerate() {
         let t = n as f64 / 100.0;
@@ -475,12 +501,7 @@ fn white_vs_fs(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
             &white_scene(4.0, f64::from(fs)),
             bar,
         );
-        let p = Params {
-            fs: f64::from(fs),
-            t,
-            sigma_d: Some(sd),
-            ..Params::default()
-        };
+        let p = Params::white(f64::from(fs), t, sd);
         let name = format!("white noise 4 LSB per sample, T = 2 s, fs {fs} Hz");
         rows.push(row(
             name.clone(),
@@ -522,17 +543,7 @@ fn white_vs_fs(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
             "#1f77b4",
             false,
             &fine,
-            |fs| {
-                on_curve(
-                    "euler",
-                    Params {
-                        fs,
-                        t,
-                        sigma_d: Some(sd),
-                        ..Params::default()
-                    },
-                )
-            },
+            |fs| on_curve("euler", Params::white(fs, t, sd)),
         )],
         points: vec![mc_points("core, Monte Carlo", "#1f77b4", &xs, &ms)],
         marks: vec![],
@@ -568,13 +579,7 @@ fn filtered_vs_fs(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
             &filtered_scene(sc, fc, f64::from(fs)),
             bar,
         );
-        let p = Params {
-            fs: f64::from(fs),
-            t,
-            sigma_c: Some(sc),
-            fc: Some(fc),
-            ..Params::default()
-        };
+        let p = Params::filtered(f64::from(fs), t, sc, fc);
         let name = format!("5 Hz analog filter, sigma_f 20 LSB, T = 2 s, fs {fs} Hz");
         rows.push(row(
             name.clone(),
@@ -591,12 +596,7 @@ fn filtered_vs_fs(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
             // REFERENCE (b) caveat 4: treating the filtered samples as white (sigma_d = sigma_f)
             // predicts a 1/sqrt(fs) gain that a fixed analog filter does not give.
             let sigma_f = 20.0 * ADXL335_LSB;
-            let wrong = Params {
-                fs: f64::from(fs),
-                t,
-                sigma_d: Some(sigma_f),
-                ..Params::default()
-            };
+            let wrong = Params::white(f64::from(fs), t, sigma_f);
             rows.push(row(
                 name,
                 Check {
@@ -624,35 +624,14 @@ fn filtered_vs_fs(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
                 "#2ca02c",
                 false,
                 &fine,
-                |fs| {
-                    on_curve(
-                        "ar1_euler",
-                        Params {
-                            fs,
-                            t,
-                            sigma_c: Some(sc),
-                            fc: Some(fc),
-                            ..Params::default()
-                        },
-                    )
-                },
+                |fs| on_curve("ar1_euler", Params::filtered(fs, t, sc, fc)),
             ),
             curve(
                 "white law with sigma_d = sigma_f (wrong)",
                 "#999999",
                 true,
                 &fine,
-                |fs| {
-                    on_curve(
-                        "euler",
-                        Params {
-                            fs,
-                            t,
-                            sigma_d: Some(sigma_f),
-                            ..Params::default()
-                        },
-                    )
-                },
+                |fs| on_curve("euler", Params::white(fs, t, sigma_f)),
             ),
         ],
         points: vec![mc_points("core, Monte Carlo", "#2ca02c", &xs, &ms)],
@@ -680,13 +659,7 @@ fn filtered_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
         &filtered_scene(sc, fc, 100.0),
         bar,
     );
-    let filt = |t: f64| Params {
-        fs: 100.0,
-        t,
-        sigma_c: Some(sc),
-        fc: Some(fc),
-        ..Params::default()
-    };
+    let filt = |t: f64| Params::filtered(100.0, t, sc, fc);
     let sigma_f = 20.0 * ADXL335_LSB;
     let mut rows = vec![];
     for (i, &n) in ns.iter().enumerate() {
@@ -709,12 +682,7 @@ fn filtered_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
             },
         ];
         if n == 6000 {
-            let wrong = Params {
-                fs: 100.0,
-                t,
-                sigma_d: Some(sigma_f),
-                ..Params::default()
-            };
+            let wrong = Params::white(100.0, t, sigma_f);
             checks.push(Check {
                 law: "eq23",
                 estimate: Estimate::Retrospective,
@@ -798,12 +766,7 @@ fn bias_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
         bar,
     );
     let bias = sim::quantised_variance(0.0, 3.0).sqrt() * ADXL335_LSB;
-    let p = |t: f64| Params {
-        fs: 100.0,
-        t,
-        bias: Some(bias),
-        ..Params::default()
-    };
+    let p = |t: f64| Params::bias(100.0, t, bias);
     let mut rows = vec![];
     for (i, &n) in ns.iter().enumerate() {
         let t = n as f64 / 100.0;
@@ -823,12 +786,7 @@ fn bias_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
             &m[i],
         ));
         if n == 1000 {
-            let wrong = Params {
-                fs: 100.0,
-                t,
-                sigma_d: Some(bias),
-                ..Params::default()
-            };
+            let wrong = Params::white(100.0, t, bias);
             rows.push(row(
                 name,
                 Check {
@@ -857,17 +815,7 @@ fn bias_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
                 "#999999",
                 true,
                 &fine,
-                |t| {
-                    on_curve(
-                        "eq27",
-                        Params {
-                            fs: 100.0,
-                            t,
-                            sigma_d: Some(bias),
-                            ..Params::default()
-                        },
-                    )
-                },
+                |t| on_curve("eq27", Params::white(100.0, t, bias)),
             ),
         ],
         points: vec![mc_points(
