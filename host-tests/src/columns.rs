@@ -15,7 +15,7 @@
 //!
 //! Every problem is an error naming the line; nothing panics.
 
-use crate::recording::{err, RecordingError};
+use crate::recording::{content_lines, err, RecordingError};
 
 /// How the values become m/s^2.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,13 +73,7 @@ pub fn read(text: &str, o: &Options) -> Result<Data, RecordingError> {
     let mut fs_meta = None;
     let mut header: Option<(usize, Vec<String>)> = None;
     let mut rows: Vec<(usize, Vec<&str>)> = vec![];
-    for (i, raw) in text.lines().enumerate() {
-        let line = i + 1;
-        let l = raw.trim();
-        if l.is_empty() || l.starts_with('#') {
-            continue;
-        }
-        let fields: Vec<&str> = l.split(',').map(str::trim).collect();
+    for (line, l, fields) in content_lines(text) {
         match &header {
             Some((_, h)) => {
                 if fields.len() != h.len() {

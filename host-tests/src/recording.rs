@@ -43,6 +43,16 @@ impl fmt::Display for RecordingError {
     }
 }
 
+/// The lines of a CSV that carry content, with their 1-based numbers and trimmed fields:
+/// blank lines and `#` comments are skipped.
+pub(crate) fn content_lines(text: &str) -> impl Iterator<Item = (usize, &str, Vec<&str>)> {
+    text.lines().enumerate().filter_map(|(i, raw)| {
+        let l = raw.trim();
+        (!l.is_empty() && !l.starts_with('#'))
+            .then(|| (i + 1, l, l.split(',').map(str::trim).collect()))
+    })
+}
+
 /// An error at `line` (0: the file as a whole).
 pub(crate) fn err<T>(line: usize, problem: impl Into<String>) -> Result<T, RecordingError> {
     Err(RecordingError {
@@ -68,13 +78,7 @@ pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingErro
     let mut first_stamp: Option<(usize, f64)> = None;
     let mut last_stamp: Option<f64> = None;
     let mut steps: Vec<(usize, f64)> = vec![];
-    for (i, raw) in text.lines().enumerate() {
-        let line = i + 1;
-        let l = raw.trim();
-        if l.is_empty() || l.starts_with('#') {
-            continue;
-        }
-        let fields: Vec<&str> = l.split(',').map(str::trim).collect();
+    for (line, l, fields) in content_lines(text) {
         let Some(clk) = clock else {
             if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") {
                 match fields[1].parse::<f64>() {

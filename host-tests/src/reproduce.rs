@@ -74,6 +74,17 @@ impl Params {
             ..Self::default()
         }
     }
+    /// The same as `cargo lab predict` inputs.
+    pub fn inputs(&self) -> Inputs {
+        Inputs {
+            fs: self.fs,
+            t: vec![self.t],
+            sigma_d: self.sigma_d,
+            sigma_c: self.sigma_c,
+            fc: self.fc,
+            bias: self.bias,
+        }
+    }
     /// A constant bias [m/s^2].
     pub fn bias(fs: f64, t: f64, bias: f64) -> Self {
         Self {
@@ -240,15 +251,7 @@ fn run(
 
 /// The predictor's value for `law` at `params`.
 fn predicted(law: &str, p: &Params) -> f64 {
-    let rows = predict::predict(&Inputs {
-        fs: p.fs,
-        t: vec![p.t],
-        sigma_d: p.sigma_d,
-        sigma_c: p.sigma_c,
-        fc: p.fc,
-        bias: p.bias,
-    })
-    .expect("reproduce params are valid predictor inputs");
+    let rows = predict::predict(&p.inputs()).expect("reproduce params are valid predictor inputs");
     let r = &rows[0];
     match law {
         "eq2" => r.eq2_m,

@@ -1,7 +1,7 @@
 //! `cargo lab reproduce` at the `--quick` size: every law holds, every control is rejected,
 //! the JSON is as documented and each prediction can be recomputed from its params.
 
-use host_tests::predict::{predict, Inputs};
+use host_tests::predict::predict;
 use host_tests::reproduce::{reproduce, z_crit, Report};
 
 fn quick() -> Report {
@@ -56,16 +56,7 @@ fn json_rows_have_the_documented_keys() {
 #[test]
 fn each_prediction_is_the_predictor_at_the_rows_params() {
     for row in quick().rows {
-        let p = &row.params;
-        let out = predict(&Inputs {
-            fs: p.fs,
-            t: vec![p.t],
-            sigma_d: p.sigma_d,
-            sigma_c: p.sigma_c,
-            fc: p.fc,
-            bias: p.bias,
-        })
-        .expect("params are valid predictor inputs");
+        let out = predict(&row.params.inputs()).expect("params are valid predictor inputs");
         let json = serde_json::to_value(&out[0]).expect("serialisable");
         assert_eq!(
             json[format!("{}_m", row.law)].as_f64(),
