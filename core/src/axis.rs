@@ -89,6 +89,14 @@ impl Axis {
             .step(&mut self.integrator, y - self.bias_q16);
     }
 
+    /// Integrates a whole block of filtered samples minus the bias, exactly as
+    /// [`Self::integrate`] on each (see [`crate::Scheme::step_block`]).
+    pub fn integrate_block(&mut self, settings: &Settings, b: &crate::integrator::BlockSums) {
+        settings
+            .scheme()
+            .step_block(&mut self.integrator, b, self.bias_q16);
+    }
+
     /// Zero-velocity update (see [`IntegratorState::zero_velocity`]).
     pub fn zero_velocity(&mut self) {
         self.integrator.zero_velocity();

@@ -8,6 +8,16 @@
 //! - variance `= (n sum_sq - sum^2) / (n (n - 1))` [LSB^2] (unbiased), compared exactly with
 //!   the configured bound; the reported rms is `floor(sqrt(variance) * 2^16)` in Q16 counts.
 //!
+//! - noise over time: the window is also cut into ticks of `D` samples (drift control's 5 ms
+//!   ticks). From the tick sums `s[t]` come their variance `g0` and lag-one covariance `g1`
+//!   (exact integer sums, rounded once): [`Calibration::tick_var_q32`] `= g0 / D` and
+//!   [`Calibration::long_run_var_q32`] `= (g0 + 2 g1) / D`, the variance per sample of a long
+//!   sum (`Var(sum of n samples) ~ q n` for `n >> D`; REFERENCE (i)). A sensor's RC filter
+//!   correlates neighbouring samples, so `q` is several times the per-sample variance (19x
+//!   for an ADXL335's 50 Hz pole at 3 kHz); ticks well past the filter's time constant keep
+//!   `g2` and beyond negligible (the 50 Hz pole's correlation is 0.2 after one 5 ms tick,
+//!   below 0.01 after two).
+//!
 //! A window whose variance exceeds the bound had motion in it (or a tap on the desk); it is
 //! rejected as a whole, never averaged in. A window that touches either ADC rail (code `0` or
 //! `2^bits - 1`) is rejected as clipped: a clipped mean is not the bias.
@@ -27,6 +37,13 @@ pub struct Calibration {
     pub noise_rms_q16: u64,
     /// Number of samples averaged.
     pub samples: u32,
+    /// Variance of a tick's sum divided by its length [LSB^2 per sample, Q32], floored at
+    /// 1/4 LSB^2 (a noise-free sensor still flickers between two codes).
+    pub tick_var_q32: u64,
+    /// Long-run variance per sample, `q`, from the ticks' variance and lag-one covariance
+    /// [LSB^2 per sample, Q32]: `Var(sum of n samples) ~ q n` for sums longer than a tick.
+    /// Floored at 1/4 LSB^2 and at half of [`Self::tick_var_q32`].
+    pub long_run_var_q32: u64,
 }
 
 /// Why a calibration window was rejected.
@@ -68,24 +85,46 @@ pub struct Calibrator {
     window: u32,
     var_max_q16: u64,
     rail: u16,
+    tick: u32,
     n: u32,
     sum: u64,
     sum_sq: u64,
     clipped: Option<u16>,
+    /// The current tick's sum and the previous complete tick's sum.
+    tick_sum: u64,
+    /// The first two complete ticks' sums and the last two.
+    first_ticks: [u64; 2],
+    last_ticks: [u64; 2],
+    /// Complete ticks, their sum, sum of squares and sum of lag-one products.
+    ticks: u32,
+    ticks_sum: u64,
+    ticks_sum_sq: u128,
+    ticks_lag1: u128,
+    ticks_lag2: u128,
 }
 
 impl Calibrator {
     /// A calibrator for `window` samples (`2..=2^24`) that rejects a variance above
-    /// `var_max_q16` (LSB^2 in Q16) and any code at `0` or `2^adc_bits - 1`.
-    pub(crate) const fn new(window: u32, var_max_q16: u64, adc_bits: u8) -> Self {
+    /// `var_max_q16` (LSB^2 in Q16) and any code at `0` or `2^adc_bits - 1`, and measures
+    /// the noise over ticks of `tick` samples (`1..=2^14`).
+    pub(crate) const fn new(window: u32, var_max_q16: u64, adc_bits: u8, tick: u32) -> Self {
         Self {
             window,
             var_max_q16,
             rail: ((1u32 << adc_bits) - 1) as u16,
+            tick,
             n: 0,
             sum: 0,
             sum_sq: 0,
             clipped: None,
+            tick_sum: 0,
+            first_ticks: [0; 2],
+            last_ticks: [0; 2],
+            ticks: 0,
+            ticks_sum: 0,
+            ticks_sum_sq: 0,
+            ticks_lag1: 0,
+            ticks_lag2: 0,
         }
     }
 
@@ -117,11 +156,35 @@ impl Calibrator {
         self.n += 1;
         self.sum += v; // <= 2^24 * 2^16: exact
         self.sum_sq += v * v; // <= 2^24 * 2^32: exact
+        self.tick_sum += v;
+        if self.n.is_multiple_of(self.tick) {
+            let t = self.tick_sum;
+            self.ticks_sum += t; // <= 2^40
+            self.ticks_sum_sq += u128::from(t) * u128::from(t); // <= 2^24 * 2^60
+            let [before, last] = self.last_ticks;
+            if self.ticks >= 1 {
+                self.ticks_lag1 += u128::from(t) * u128::from(last);
+            }
+            if self.ticks >= 2 {
+                self.ticks_lag2 += u128::from(t) * u128::from(before);
+            }
+            if self.ticks < 2 {
+                self.first_ticks[self.ticks as usize] = t;
+            }
+            self.ticks += 1;
+            self.last_ticks = [last, t];
+            self.tick_sum = 0;
+        }
     }
 
     /// Empties the window.
     pub fn restart(&mut self) {
-        *self = Self::new(self.window, self.var_max_q16, self.rail.count_ones() as u8);
+        *self = Self::new(
+            self.window,
+            self.var_max_q16,
+            self.rail.count_ones() as u8,
+            self.tick,
+        );
     }
 
     /// The calibration from the samples so far (normally a full window; at least 2 samples).
@@ -143,11 +206,50 @@ impl Calibrator {
             return Err(CalibrationError::Motion { noise_rms_q16 });
         }
         let bias_q16 = (((sum << 17) + n) / (2 * n)) as i64; // round half up of sum 2^16 / n
+        let (tick_var_q32, long_run_var_q32) = self.tick_variances();
         Ok(Calibration {
             bias_q16,
             noise_rms_q16,
             samples: self.n,
+            tick_var_q32,
+            long_run_var_q32,
         })
+    }
+
+    /// `(g0 / D, (g0 + 2 g1 + 2 g2) / D)` in LSB^2 per sample, Q32, floored (see
+    /// [`Calibration`]). With fewer than 4 ticks, both are the floor.
+    fn tick_variances(&self) -> (u64, u64) {
+        const FLOOR: u64 = 1 << 30; // 1/4 LSB^2
+        let k = i128::from(self.ticks);
+        if k < 4 {
+            return (FLOOR, FLOOR);
+        }
+        let s = i128::from(self.ticks_sum);
+        let s2 = s * s; // < 2^80
+        let [f1, f2] = self.first_ticks.map(i128::from);
+        let [l2, l1] = self.last_ticks.map(i128::from);
+        // The centred lag sums C_l = sum (t[i] - m)(t[i-l] - m), m = s / k, exactly, times
+        // k^2 (the edge terms matter: m is thousands of times the deviations):
+        //   k^2 C0 = k (k sum t^2 - s^2)
+        //   k^2 C1 = k^2 P1 - (k + 1) s^2 + k s (t[1] + t[k])
+        //   k^2 C2 = k^2 P2 - (k + 2) s^2 + k s (t[1] + t[2] + t[k-1] + t[k])
+        // with P_l = sum t[i] t[i-l]; g_l = C_l / k. Every term is below 2^110.
+        let c0 = k * (k * self.ticks_sum_sq as i128 - s2);
+        let c1 = k * k * self.ticks_lag1 as i128 - (k + 1) * s2 + k * s * (f1 + l1);
+        let c2 = k * k * self.ticks_lag2 as i128 - (k + 2) * s2 + k * s * (f1 + f2 + l2 + l1);
+        let den = k * k * k * i128::from(self.tick);
+        let q32 = |num: i128| -> u64 {
+            let num = num.max(0);
+            let v = if num < 1 << 94 {
+                (num << 32) / den
+            } else {
+                (num / den) << 32
+            };
+            v.min(i128::from(u64::MAX)) as u64
+        };
+        let g0 = q32(c0);
+        let long = q32(c0 + 2 * c1 + 2 * c2);
+        (g0.max(FLOOR), long.max(g0 / 2).max(FLOOR))
     }
 }
 
@@ -156,7 +258,7 @@ mod tests {
     use super::*;
 
     fn cal(window: u32, var_max_lsb2: u64) -> Calibrator {
-        Calibrator::new(window, var_max_lsb2 << 16, 12)
+        Calibrator::new(window, var_max_lsb2 << 16, 12, 2)
     }
 
     #[test]
@@ -182,6 +284,30 @@ mod tests {
         assert!(matches!(c.finish(), Err(CalibrationError::Motion { .. })));
         c.restart();
         assert_eq!(c.samples(), 0);
+    }
+
+    #[test]
+    fn tick_variances_separate_white_from_correlated_noise() {
+        // Ticks of 2 samples. Alternating: tick sums 4000 +- 2 in turn (g1 = -g0, g2 = g0):
+        // the long-run variance g0 - 2 g0 + 2 g0 = g0. Correlated: tick sums in runs of four
+        // (g1 = g0 / 2, g2 = 0 in the limit): long-run = 2 g0.
+        let mut c = Calibrator::new(4000, 100 << 16, 12, 2);
+        for i in 0..4000 {
+            c.push(AdcCode(if (i / 2) % 2 == 0 { 2001 } else { 1999 }));
+        }
+        let r = c.finish().expect("at rest");
+        // Tick sums 4000 +- 2: g0 = 4 LSB^2 (divided by k), per sample half of it.
+        let g0 = 2.0;
+        assert!((r.tick_var_q32 as f64 / 2f64.powi(32) - g0).abs() < 1e-6);
+        let ratio = r.long_run_var_q32 as f64 / r.tick_var_q32 as f64;
+        assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
+        let mut c = Calibrator::new(4000, 100 << 16, 12, 2);
+        for i in 0..4000 {
+            c.push(AdcCode(if (i / 8) % 2 == 0 { 2001 } else { 1999 }));
+        }
+        let r = c.finish().expect("at rest");
+        let ratio = r.long_run_var_q32 as f64 / r.tick_var_q32 as f64;
+        assert!((ratio - 2.0).abs() < 0.01, "{ratio}");
     }
 
     #[test]

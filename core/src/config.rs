@@ -194,10 +194,14 @@ impl Config {
             window,
             crate::math::round_to_u64(var_q16).max(1),
             self.adc_bits,
+            crate::stillness::tick_samples(self.fs_hz),
         );
         let drift = match &self.drift {
             None => None,
-            Some(d) => Some(d.validate(self.fs_hz).map_err(ConfigError::Drift)?),
+            Some(d) => Some(
+                d.validate(self.fs_hz, self.m_s2_per_lsb)
+                    .map_err(ConfigError::Drift)?,
+            ),
         };
         Ok(Settings {
             drift,

@@ -79,7 +79,93 @@ impl IntegratorState {
     }
 }
 
+/// Sums of a block of filtered samples `y[1..=n]` (Q16 counts), from which
+/// [`Scheme::step_block`] integrates the whole block at once, exactly as `n` calls of
+/// [`Scheme::step`] would. Drift control keeps one per axis for each 5 ms tick, so it can
+/// integrate the onset of a motion after the fact without keeping every sample.
+///
+/// # Ranges
+/// `|y| < 2^32` (16-bit codes in Q16) and `n <= 2^14`: `sum < 2^46` and
+/// `sum_of_prefixes < n^2 2^31 <= 2^59`, both exact in `i64`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BlockSums {
+    /// Samples in the block.
+    pub n: u32,
+    /// `sum y[k]` [Q16 counts].
+    pub sum: i64,
+    /// `sum_m sum_{k <= m} y[k]`, the sum of the prefix sums [Q16 counts].
+    pub sum_of_prefixes: i64,
+    /// `y[1]` [Q16 counts].
+    pub first: i64,
+    /// `y[n]` [Q16 counts].
+    pub last: i64,
+}
+
+impl BlockSums {
+    /// Appends one sample `y` (Q16 counts).
+    #[inline]
+    pub fn push(&mut self, y: i64) {
+        if self.n == 0 {
+            self.first = y;
+        }
+        self.n += 1;
+        self.sum += y;
+        self.sum_of_prefixes += self.sum;
+        self.last = y;
+    }
+}
+
 impl Scheme {
+    /// Integrates a whole block, `c[k] = y[k] - bias_q16`, exactly as `b.n` calls of
+    /// [`Self::step`] would (short of saturation, which the block form applies once per
+    /// block). With `A = sum c`, `B = sum of prefix sums of c`, `n` steps from `(W0, Z0)`:
+    ///
+    /// ```text
+    /// Euler      W = W0 + 2 A                      Z = Z0 + 2 n W0 + 4 B
+    /// Trapezoid  W = W0 + c0 + 2 A - c[n]          (c0: the sample before the block)
+    ///            Z = Z0 + W0 + W + 2 (n-1)(W0 + c0) + 4 (B - A) - 2 (A - c[n])
+    /// ```
+    ///
+    /// An unprimed trapezoid primes on `c[1]` and integrates the other `n - 1`.
+    pub fn step_block(self, state: &mut IntegratorState, b: &BlockSums, bias_q16: i64) {
+        if b.n == 0 {
+            return;
+        }
+        let n = i128::from(b.n);
+        let bias = i128::from(bias_q16);
+        let mut a = i128::from(b.sum) - n * bias;
+        let mut bb = i128::from(b.sum_of_prefixes) - bias * n * (n + 1) / 2;
+        let last = i128::from(b.last) - bias;
+        let w0 = i128::from(state.w);
+        let sat = |v: i128| v.clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64;
+        match self {
+            Self::Euler => {
+                state.w = sat(w0 + 2 * a);
+                state.z = state.z.saturating_add(2 * n * w0).saturating_add(4 * bb);
+            }
+            Self::Trapezoid => {
+                let mut n = n;
+                if !state.primed {
+                    let c1 = i128::from(b.first) - bias;
+                    // Prime on c[1]; the remaining n - 1 samples have prefix sums P[m+1] - c1.
+                    a -= c1;
+                    bb -= n * c1;
+                    n -= 1;
+                    state.primed = true;
+                    state.prev = c1 as i64;
+                }
+                if n > 0 {
+                    let c0 = i128::from(state.prev);
+                    let w = w0 + c0 + 2 * a - last;
+                    let dz = w0 + w + 2 * (n - 1) * (w0 + c0) + 4 * (bb - a) - 2 * (a - last);
+                    state.w = sat(w);
+                    state.z = state.z.saturating_add(dz);
+                    state.prev = last as i64;
+                }
+            }
+        }
+    }
+
     /// Integrates one sample `c` (Q16 counts).
     #[inline]
     pub fn step(self, state: &mut IntegratorState, c: i64) {
@@ -134,6 +220,37 @@ mod tests {
         assert_eq!(s.take_position(), 2 * (2 + 4));
         assert_eq!(s.position(), 0);
         assert_eq!(s.velocity(), 4);
+    }
+
+    #[test]
+    fn a_block_integrates_exactly_as_its_samples_do() {
+        // A deterministic walk of samples, blocks of every length 1..=40, both schemes,
+        // primed and unprimed starts, and a non-zero bias: the block form equals the steps.
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x >> 20) as i64 % (1 << 30)) - (1 << 29)
+        };
+        for scheme in [Scheme::Euler, Scheme::Trapezoid] {
+            for n in 1..=40u32 {
+                let bias = next();
+                let mut by_step = IntegratorState::default();
+                for _ in 0..(n % 3) {
+                    scheme.step(&mut by_step, next());
+                }
+                let mut by_block = by_step;
+                let mut b = BlockSums::default();
+                for _ in 0..n {
+                    let y = next();
+                    b.push(y);
+                    scheme.step(&mut by_step, y - bias);
+                }
+                scheme.step_block(&mut by_block, &b, bias);
+                assert_eq!(by_block, by_step, "{scheme:?} n {n}");
+            }
+        }
     }
 
     #[test]

@@ -49,11 +49,11 @@ pub use calibration::{Calibration, CalibrationError, Calibrator};
 pub use config::{Config, ConfigError, Settings};
 pub use hid::{MouseReport, Reporter};
 pub use indicator::{Indicator, LastCalibration};
-pub use integrator::{IntegratorState, Scheme};
+pub use integrator::{BlockSums, IntegratorState, Scheme};
 pub use ledger::{LedgerError, SampleLedger};
 pub use lowpass::{Lowpass, LowpassState};
 pub use readout::{Readout, ReadoutState};
-pub use stillness::{Drift, DriftError};
+pub use stillness::{Drift, DriftError, State as DriftState};
 pub use tracker::{Counters, Event, Phase, Tracker, AXES};
 
 /// Number of fractional bits of the bias-free acceleration `c` fed to the integrator

@@ -1,58 +1,150 @@
-//! Drift control: stillness detection, zero-velocity updates, bias tracking at rest, and a
-//! click freeze. The paper proves that pure double integration drifts without bound; the
-//! mouse stays put at rest by not integrating while it is still.
+//! Drift control: when the device rests, nothing moves; when the hand moves, the motion
+//! arrives whole, however slow; a tilt, a lift or a knock does not move the cursor.
 //!
-//! # Design
-//! - Detector: over a window of `W` samples per axis (running sums, exact integers), both the
-//!   variance of the raw codes and the squared distance of their mean from the bias, each
-//!   compared with the calibrated noise variance `sigma^2` (floored at 1/4 LSB^2). The device
-//!   is still when, on every axis, both are below `still_factor * sigma^2`, and moving as soon
-//!   as either exceeds `move_factor * sigma^2` on any axis (hysteresis). The variance catches a
-//!   changing acceleration, the mean a steady one (a pure variance test would call the flat
-//!   top of a stroke's acceleration "still" and stop it mid-stroke). A tilt, which moves
-//!   gravity into an axis, is therefore motion until the device is recalibrated.
-//! - Zero-velocity update: while still nothing is integrated, velocity is held at zero and
-//!   no position accrues, so the cursor cannot creep. The window's filtered samples are
-//!   kept; when motion is detected they are integrated first, from zero velocity, so the
-//!   stroke's onset (which the window needed to see) is not lost.
-//! - Bias tracking: while still, each full window moves the bias `1/M` of the way to the
-//!   window's mean (`M = bias_tau / window`), following slow drift (temperature).
-//! - Click freeze: for `click_freeze` after a button edge nothing is integrated, and
-//!   velocity restarts from zero: the hand's jolt when clicking does not drag the cursor.
+//! The paper proves that pure double integration drifts without bound. A mouse stays put by
+//! not integrating while it rests, and by deciding "rest" with statistics sized to the
+//! sensor's own noise, measured at calibration (REFERENCE (i)).
+//!
+//! # Ticks and the noise model
+//! The detector works on ticks of `D = round(fs * 5 ms)` samples (at least 1): per tick and
+//! axis it keeps the sum of the raw codes `s` and the [`BlockSums`] of the filtered samples
+//! (so a motion's onset can be integrated after the fact, exactly). Its statistics come from
+//! the calibration ([`Calibration`]): `q`, the long-run variance per sample (a sum of `n`
+//! samples at rest has variance `q n`), and `g0`, the variance of one tick's sum per sample.
+//! The calibration's `q` comes from one second and is uncertain by 20 %: the detector
+//! starts from its upper 2-sd bound and learns `q` at rest (`learn_noise`), block by block.
+//! Tick decisions cost a few hundred operations every 5 ms, at any rate from 100 Hz to
+//! 100 kHz; a sample costs one add per axis and sum.
+//!
+//! # States
+//! ```text
+//!        CUSUM alarm on X or Y (replay from its onset)
+//! Still ---------------------------------------------> Moving
+//!   ^  <-- quiet and velocity explained by noise -------- |
+//!   |  <-- steady offset for rest_s: a tilt, new bias --- |
+//!   |                                                     |
+//!   +-- steady for rest_s (new bias if it differs) -- Lifted <-- Z offset (any state)
+//!   +-- click freeze over ---------------------------- Frozen <-- button edge (any state)
+//! ```
+//! - **Start** (Still): a two-sided CUSUM per horizontal axis on the tick means' offset from
+//!   the bias, in units of their long-run sd `sqrt(q / D)`: `S = max(0, S + z - 1/2)`, alarm
+//!   at `S > start_sigmas`. It sees a slow stroke's small acceleration by accumulating it
+//!   (a 15 mm stroke over 1 s is found about 55 ms in), and it knows where the run began:
+//!   the ticks since `S` was last zero are integrated from zero velocity at once, so the
+//!   stroke's onset is not lost. At rest the expected time to a false alarm is about
+//!   `e^(h + 1.17) / (2 kappa^2)` ticks (Siegmund), 2e7 ticks (28 h) per side for `h = 16`.
+//! - **Hold**: a motion younger than `hold_s` (from its onset) is integrated but not yet
+//!   delivered; a button edge inside it discards it. A click's jolt starts before its
+//!   debounced edge is known, and this is what keeps it from dragging the cursor.
+//! - **Stop** (Moving): the last `quiet_s` of X and Y have a mean within `quiet_sigmas` of
+//!   the bias, and the velocity is explained: within `velocity_sigmas` of its own
+//!   uncertainty `sd(V)^2 = q n + q n^2 / N_b` (`n` samples since the onset, the bias
+//!   averaged over `N_b` samples), or below `stop_fraction` of the motion's peak. Mid-stroke
+//!   the acceleration passes through zero while the hand moves fastest; the velocity test
+//!   keeps the stroke going there. A velocity that no acceleration explains is stopped
+//!   after `coast_s` of quiet (an accelerometer cannot see constant velocity).
+//! - **Tilt** (Moving): the last `rest_s` are steady on every axis (the tick sums' scatter
+//!   at most `rest_factor` times the calibrated `g0`) but off the bias: a hand cannot keep
+//!   accelerating one way that steadily for that long, so it is a tilt or a bias step. The
+//!   window's means become the biases and the motion stops.
+//! - **Lift** (any state but Frozen): a tick's Z offset above `lift_m_s2` plus
+//!   `lift_xy_ratio` times the horizontal offsets (the mounting tilt and cross-axis
+//!   sensitivity put a fraction of a horizontal stroke on Z). Nothing is integrated until
+//!   the device has been steady for `rest_s`; then the biases become the window's means if
+//!   any differs from the old bias by more than the two estimates' noise allows (a new
+//!   tilt), and stay otherwise (a knock). Optical mice stop tracking when lifted, too.
+//! - **Bias tracking** (Still): the tick `REPLAY` ticks old (older than any onset a CUSUM
+//!   alarm could still claim) is averaged into the bias with weight `D / min(N_b, bias_tau_s * fs)`: a running mean
+//!   after a re-zero, an exponential with time constant `bias_tau_s` later.
+//! - **Click freeze**: for `click_freeze_s` after a button edge nothing is integrated; then
+//!   Still, from zero velocity.
 
 use core::fmt;
 
-/// Most samples the detector window may hold.
-pub const WINDOW_MAX: usize = 128;
-/// Fewest samples the detector window may hold.
-pub const WINDOW_MIN: usize = 8;
+use crate::calibration::Calibration;
+use crate::integrator::BlockSums;
 
-/// Drift control settings in physical units.
+/// Length of a detector tick [s]; a tick is `round(fs * TICK_S)` samples, at least 1.
+pub const TICK_S: f64 = 0.005;
+/// Ticks of raw-code sums kept (320 ms at 5 ms ticks): the longest `quiet_s` and `rest_s`.
+pub const RING: usize = 64;
+/// Ticks of filtered sums kept for replaying a motion's onset (200 ms at 5 ms ticks).
+pub const REPLAY: usize = 40;
+/// The CUSUM's reference value `kappa` [sd of a tick mean], Q8: 1/2, the value that makes
+/// it quickest for offsets near one sd.
+const KAPPA_Q8: i64 = 128;
+
+/// Samples per detector tick at `fs_hz`: `round(fs * TICK_S)`, `1..=2^14`.
+pub fn tick_samples(fs_hz: u32) -> u32 {
+    (crate::math::round_to_u64(f64::from(fs_hz) * TICK_S) as u32).clamp(1, 1 << 14)
+}
+
+/// Drift control settings in physical units (seconds, m/s^2) and multiples of the noise
+/// measured at calibration (sd).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Drift {
-    /// Detector window [s]; `round(window_s * fs)` must lie in `8..=128` samples (the
-    /// buffer is a fixed 128 samples: above 3.2 kHz use a shorter window than the default).
-    pub window_s: f64,
-    /// Still when every axis's window variance is below this multiple of its calibrated
-    /// noise variance, `>= 1`.
-    pub still_factor: f64,
-    /// Moving when any axis's window variance exceeds this multiple, `>= still_factor`.
-    pub move_factor: f64,
-    /// Time constant of the bias tracking while still [s], `>= window_s`; `None` disables it.
+    /// CUSUM alarm threshold [sd of a tick mean], `1..=1000`.
+    pub start_sigmas: f64,
+    /// Motion younger than this is not delivered and a button edge discards it [s],
+    /// `0..=0.1`. Cover the button's debounce and polling delay.
+    pub hold_s: f64,
+    /// Window of the stop test [s]; `1..=64` ticks.
+    pub quiet_s: f64,
+    /// The stop test's bound on the window mean's offset [sd of that mean], `0 < k <= 1000`.
+    pub quiet_sigmas: f64,
+    /// A velocity within this many of its sd counts as zero [sd], `0..=1000` (0: off).
+    pub velocity_sigmas: f64,
+    /// A velocity below this fraction of the motion's peak counts as zero, `0..=1` (0: off).
+    pub stop_fraction: f64,
+    /// Quiet this long stops any motion [s], `quiet_s..=60`.
+    pub coast_s: f64,
+    /// Window of the steadiness test (tilt, landing) [s]; `4..=64` ticks.
+    pub rest_s: f64,
+    /// Steady: the tick sums' scatter at most this multiple of the calibrated one, `1..=1000`.
+    pub rest_factor: f64,
+    /// A Z offset that means "lifted" [m/s^2], `> 0` and finite, or `None` for no lift
+    /// detection (a two-axis sensor).
+    pub lift_m_s2: Option<f64>,
+    /// Added to the lift threshold per unit of horizontal offset, `0..=10`.
+    pub lift_xy_ratio: f64,
+    /// Time constant of the bias tracking at rest [s], `rest_s..1e6`; `None` disables it.
     pub bias_tau_s: Option<f64>,
     /// Motion suppressed after a button edge [s], `0..=2`.
     pub click_freeze_s: f64,
 }
 
 impl Default for Drift {
-    /// A 40 ms window; still below 2x the calibrated noise variance, moving above 4x; bias
-    /// tracked with a 5 s time constant; 150 ms click freeze.
+    /// The defaults, each with its reason:
+    /// - `start_sigmas` 16: a false start less than once in 28 h per axis and side at rest;
+    /// - `hold_s` 12 ms: the firmware's 5 ms debounce on 1 ms (2 ms until the housekeeping
+    ///   period is fixed) polls, with room;
+    /// - `quiet_s` 20 ms, `quiet_sigmas` 3: stops within about 20 ms of a stroke's end;
+    /// - `velocity_sigmas` 3, `stop_fraction` 1/4: a min-jerk stroke's velocity is above
+    ///   1/4 of its peak until the last 13 % of it, where its deceleration is still large;
+    /// - `coast_s` 0.5 s: longer than the quiet middle of any stroke above the noise floor;
+    /// - `rest_s` 0.3 s, `rest_factor` 2: a stroke's acceleration changes measurably within
+    ///   0.3 s; 2 is 4 sd of the scatter's own noise over 60 ticks;
+    /// - `lift_m_s2` 0.3 m/s^2, `lift_xy_ratio` 1/4: a 1 cm lift in 0.3 s peaks at
+    ///   0.64 m/s^2; a quarter of a horizontal stroke's acceleration on Z is a 14 degree
+    ///   mounting tilt;
+    /// - `bias_tau_s` 2 s: the tracked bias lags a temperature ramp by `rate * (tau + 0.2 s)`,
+    ///   which must stay well below the CUSUM's `kappa` (half a tick's sd) for the start test
+    ///   to keep its false-alarm rate; its own noise, `sqrt(q / (2 tau fs))`, is 0.05 LSB for
+    ///   an ADXL335 (0.6 mm over a 1 s stroke); `click_freeze_s` 0.15 s: the jolt of a click.
     fn default() -> Self {
         Self {
-            window_s: 0.04,
-            still_factor: 2.0,
-            move_factor: 4.0,
-            bias_tau_s: Some(5.0),
+            start_sigmas: 16.0,
+            hold_s: 0.012,
+            quiet_s: 0.02,
+            quiet_sigmas: 3.0,
+            velocity_sigmas: 3.0,
+            stop_fraction: 0.25,
+            coast_s: 0.5,
+            rest_s: 0.3,
+            rest_factor: 2.0,
+            lift_m_s2: Some(0.3),
+            lift_xy_ratio: 0.25,
+            bias_tau_s: Some(2.0),
             click_freeze_s: 0.15,
         }
     }
@@ -62,11 +154,28 @@ impl Default for Drift {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum DriftError {
-    /// `window_s * fs` not in `8..=128` samples.
-    Window,
-    /// `still_factor < 1`, `move_factor < still_factor`, or either not finite or above 1e6.
-    Factors,
-    /// `bias_tau_s` below `window_s` or not finite.
+    /// `start_sigmas` not finite or outside `1..=1000`.
+    StartSigmas,
+    /// `hold_s` outside `0..=0.1`.
+    Hold,
+    /// `quiet_s` not `1..=64` ticks.
+    QuietWindow,
+    /// `quiet_sigmas` not in `(0, 1000]`.
+    QuietSigmas,
+    /// `velocity_sigmas` outside `0..=1000`.
+    VelocitySigmas,
+    /// `stop_fraction` outside `0..=1`.
+    StopFraction,
+    /// `coast_s` below `quiet_s` or above 60 s.
+    Coast,
+    /// `rest_s` not `4..=64` ticks.
+    RestWindow,
+    /// `rest_factor` outside `1..=1000`.
+    RestFactor,
+    /// `lift_m_s2` not finite and `> 0` (or above 2^15 LSB), or `lift_xy_ratio` outside
+    /// `0..=10`.
+    Lift,
+    /// `bias_tau_s` below `rest_s` or not below 1e6 s.
     BiasTau,
     /// `click_freeze_s` outside `0..=2`.
     ClickFreeze,
@@ -75,215 +184,603 @@ pub enum DriftError {
 impl fmt::Display for DriftError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
-            Self::Window => "drift.window_s: the detector window must hold 8..=128 samples",
-            Self::Factors => "drift.still_factor / move_factor: need 1 <= still <= move <= 1e6",
-            Self::BiasTau => "drift.bias_tau_s: must be finite and at least the window",
+            Self::StartSigmas => "drift.start_sigmas: must be within 1..=1000",
+            Self::Hold => "drift.hold_s: must be within 0..=0.1 s",
+            Self::QuietWindow => "drift.quiet_s: the stop window must hold 1..=64 ticks of 5 ms",
+            Self::QuietSigmas => "drift.quiet_sigmas: must be > 0 and <= 1000",
+            Self::VelocitySigmas => "drift.velocity_sigmas: must be within 0..=1000",
+            Self::StopFraction => "drift.stop_fraction: must be within 0..=1",
+            Self::Coast => "drift.coast_s: must be within quiet_s..=60 s",
+            Self::RestWindow => "drift.rest_s: the rest window must hold 4..=64 ticks of 5 ms",
+            Self::RestFactor => "drift.rest_factor: must be within 1..=1000",
+            Self::Lift => {
+                "drift.lift_m_s2 / lift_xy_ratio: need a finite threshold > 0 and a ratio in 0..=10"
+            }
+            Self::BiasTau => "drift.bias_tau_s: must be finite, at least rest_s and below 1e6 s",
             Self::ClickFreeze => "drift.click_freeze_s: must be within 0..=2 s",
         })
     }
 }
 
-/// Validated drift-control coefficients.
+/// Validated drift-control coefficients (integers; factors in Q8).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DriftSettings {
-    window: u16,
-    still_q8: u32,
-    move_q8: u32,
-    bias_steps: Option<u32>,
+    tick: u32,
+    start_q8: i64,
+    hold: u64,
+    quiet_ticks: u32,
+    quiet_k2_q8: u64,
+    velocity_k2_q8: u64,
+    stop_fraction_q8: u64,
+    coast_ticks: u32,
+    rest_ticks: u32,
+    rest_factor_q8: u64,
+    lift_q16: Option<i64>,
+    lift_ratio_q8: i64,
+    bias_samples_max: Option<u64>,
     freeze: u32,
 }
 
 impl Drift {
-    /// Validates for sampling rate `fs_hz`.
+    /// Validates for sampling rate `fs_hz` and a scale of `m_s2_per_lsb` (both already
+    /// validated by [`crate::Config::validate`]).
     ///
     /// # Errors
     /// The first invalid field.
-    pub fn validate(&self, fs_hz: u32) -> Result<DriftSettings, DriftError> {
+    pub fn validate(&self, fs_hz: u32, m_s2_per_lsb: f64) -> Result<DriftSettings, DriftError> {
+        use crate::math::round_to_u64 as round;
         let fs = f64::from(fs_hz);
-        let w = self.window_s * fs;
-        if !(w.is_finite() && w >= WINDOW_MIN as f64 - 0.5 && w < WINDOW_MAX as f64 + 0.5) {
-            return Err(DriftError::Window);
-        }
-        let window = crate::math::round_to_u64(w) as u16;
-        let ok = |v: f64| v.is_finite() && (1.0..=1e6).contains(&v);
-        if !(ok(self.still_factor) && ok(self.move_factor) && self.move_factor >= self.still_factor)
-        {
-            return Err(DriftError::Factors);
-        }
-        let bias_steps = match self.bias_tau_s {
-            None => None,
-            Some(tau) if tau.is_finite() && tau >= self.window_s && tau < 1e6 => {
-                Some(crate::math::round_to_u64(tau / self.window_s).max(1) as u32)
+        let tick = tick_samples(fs_hz);
+        let tick_s = f64::from(tick) / fs;
+        let within = |v: f64, lo: f64, hi: f64| v.is_finite() && v >= lo && v <= hi;
+        let ticks = |s: f64, lo: u32, e: DriftError| -> Result<u32, DriftError> {
+            let t = s / tick_s;
+            if within(t, f64::from(lo) - 0.5, RING as f64 + 0.499) {
+                Ok(round(t) as u32)
+            } else {
+                Err(e)
             }
+        };
+        let q8 = |v: f64| round(v * 256.0);
+        if !within(self.start_sigmas, 1.0, 1e3) {
+            return Err(DriftError::StartSigmas);
+        }
+        if !within(self.hold_s, 0.0, 0.1) {
+            return Err(DriftError::Hold);
+        }
+        let quiet_ticks = ticks(self.quiet_s, 1, DriftError::QuietWindow)?;
+        if !(within(self.quiet_sigmas, 0.0, 1e3) && self.quiet_sigmas > 0.0) {
+            return Err(DriftError::QuietSigmas);
+        }
+        if !within(self.velocity_sigmas, 0.0, 1e3) {
+            return Err(DriftError::VelocitySigmas);
+        }
+        if !within(self.stop_fraction, 0.0, 1.0) {
+            return Err(DriftError::StopFraction);
+        }
+        if !within(self.coast_s, self.quiet_s, 60.0) {
+            return Err(DriftError::Coast);
+        }
+        let rest_ticks = ticks(self.rest_s, 4, DriftError::RestWindow)?;
+        if !within(self.rest_factor, 1.0, 1e3) {
+            return Err(DriftError::RestFactor);
+        }
+        let lift_q16 = match self.lift_m_s2 {
+            None => None,
+            Some(l) if within(l / m_s2_per_lsb, 1e-6, 32_768.0) => {
+                Some(round(l / m_s2_per_lsb * 65_536.0) as i64)
+            }
+            Some(_) => return Err(DriftError::Lift),
+        };
+        if !within(self.lift_xy_ratio, 0.0, 10.0) {
+            return Err(DriftError::Lift);
+        }
+        let bias_samples_max = match self.bias_tau_s {
+            None => None,
+            Some(tau) if within(tau, self.rest_s, 1e6) && tau < 1e6 => Some(round(tau * fs).max(1)),
             Some(_) => return Err(DriftError::BiasTau),
         };
-        if !(0.0..=2.0).contains(&self.click_freeze_s) {
+        if !within(self.click_freeze_s, 0.0, 2.0) {
             return Err(DriftError::ClickFreeze);
         }
         Ok(DriftSettings {
-            window,
-            still_q8: crate::math::round_to_u64(self.still_factor * 256.0) as u32,
-            move_q8: crate::math::round_to_u64(self.move_factor * 256.0) as u32,
-            bias_steps,
-            freeze: crate::math::round_to_u64(self.click_freeze_s * fs) as u32,
+            tick,
+            start_q8: q8(self.start_sigmas) as i64,
+            hold: round(self.hold_s * fs),
+            quiet_ticks,
+            quiet_k2_q8: q8(self.quiet_sigmas * self.quiet_sigmas),
+            velocity_k2_q8: q8(self.velocity_sigmas * self.velocity_sigmas),
+            stop_fraction_q8: q8(self.stop_fraction),
+            coast_ticks: round(self.coast_s / tick_s).max(1) as u32,
+            rest_ticks,
+            rest_factor_q8: q8(self.rest_factor),
+            lift_q16,
+            lift_ratio_q8: q8(self.lift_xy_ratio) as i64,
+            bias_samples_max,
+            freeze: round(self.click_freeze_s * fs) as u32,
         })
     }
 }
 
 impl DriftSettings {
-    /// Detector window [samples].
-    pub const fn window(&self) -> usize {
-        self.window as usize
+    /// Samples per detector tick.
+    pub const fn tick_samples(&self) -> u32 {
+        self.tick
     }
     /// Click freeze [samples].
     pub const fn freeze_samples(&self) -> u32 {
         self.freeze
     }
+    /// Hold of a new motion [samples].
+    pub const fn hold_samples(&self) -> u64 {
+        self.hold
+    }
 }
 
-/// What the detector decided for one sample.
+/// What drift control is doing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Verdict {
-    /// Still: do not integrate.
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum State {
+    /// At rest: nothing is integrated; the bias follows slow drift.
     Still,
-    /// Moving, and it just started: integrate the buffered window first.
-    Started,
-    /// Moving.
+    /// A motion: every sample is integrated.
     Moving,
+    /// Lifted (or knocked): nothing is integrated until the device is steady again.
+    Lifted,
+    /// After a button edge: nothing is integrated for the click freeze.
+    Frozen,
 }
 
-/// Detector state: the window of raw codes and filtered samples of three axes.
+/// What the tracker must do to its axes after a sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// Nothing.
+    None,
+    /// A motion started: integrate the last `ticks` ticks ([`Detector::replay`]) from zero
+    /// velocity, then every sample.
+    Start {
+        /// Ticks to replay, `1..=REPLAY`.
+        ticks: usize,
+    },
+    /// The motion ended: zero velocity; what was integrated stays.
+    Stop,
+    /// The motion was held and must not be delivered: zero velocity and position.
+    Discard,
+    /// New biases (Q16 counts) after a tilt or a landing; zero velocity, and with
+    /// `discard` the held motion (the tilt's runaway) is dropped too.
+    Rebias {
+        /// The biases [Q16 counts].
+        bias: [i64; 3],
+        /// Drop the position not yet delivered.
+        discard: bool,
+    },
+    /// New biases (Q16 counts) from tracking at rest; nothing else changes.
+    TrackBias([i64; 3]),
+}
+
+/// Per-axis noise thresholds from the calibration, in the detector's integer units.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Noise {
+    /// Long-run variance per sample `q` [LSB^2, Q32].
+    q_q32: u64,
+    /// Tick-sum variance per sample `g0` [LSB^2, Q32].
+    g0_q32: u64,
+    /// `kappa sqrt(q D)` and `h sqrt(q D)`: the CUSUM's drift and alarm [Q16 LSB samples].
+    kappa: i64,
+    alarm: i64,
+}
+
+impl Noise {
+    fn new(s: &DriftSettings, q_q32: u64, g0_q32: u64) -> Self {
+        // sqrt(q D) in Q16: the square root of a Q32 value.
+        let sd = crate::math::isqrt_u128(u128::from(q_q32) * u128::from(s.tick)) as i64;
+        Self {
+            q_q32,
+            g0_q32,
+            kappa: (KAPPA_Q8 * sd) >> 8,
+            alarm: ((i128::from(s.start_q8) * i128::from(sd)) >> 8) as i64,
+        }
+    }
+}
+
+/// Ticks per block of the noise learnt at rest (80 ms at 5 ms ticks: a 50 Hz pole's
+/// correlation is gone, so a block sum's variance is `q` times its length within 4 %).
+const LEARN_TICKS: u32 = 16;
+/// Blocks in the learnt noise's exponential average (about 10 s of rest; relative sd of the
+/// estimate `sqrt(2 / (2 * 128))`, 9 %).
+const LEARN_BLOCKS: u64 = 128;
+
+/// Drift-control state of a three-axis device; see the module docs.
 #[derive(Clone, Copy, Debug)]
 pub struct Detector {
-    codes: [[u16; 3]; WINDOW_MAX],
-    filtered: [[i64; 3]; WINDOW_MAX],
-    head: usize,
-    filled: usize,
-    sum: [u64; 3],
-    sum_sq: [u64; 3],
-    /// Per-axis thresholds on `W sum_sq - sum^2` (= W^2 var), still and moving.
-    still_thr: [u64; 3],
-    move_thr: [u64; 3],
-    still: bool,
-    since_bias: u32,
+    codes: [[u32; 3]; RING],
+    sums: [[BlockSums; 3]; REPLAY],
+    cur_codes: [u32; 3],
+    cur_sums: [BlockSums; 3],
+    cur_n: u32,
+    ticks: u64,
+    state: State,
+    entered: u64,
+    cusum: [[i64; 2]; 2],
+    onset: [[u64; 2]; 2],
+    quiet_run: u32,
+    /// The tick from which a motion has looked like a tilt (steady, off the bias).
+    suspect: Option<u64>,
+    motion_samples: u64,
+    peak_w: [u64; 2],
+    freeze_left: u32,
+    bias_samples: u64,
+    noise: [Noise; 3],
+    learn_sum: [u64; 3],
+    learn_ticks: u32,
+}
+
+/// `a * b`, saturating, for threshold products.
+fn mul(a: u128, b: u128) -> u128 {
+    a.saturating_mul(b)
 }
 
 impl Detector {
-    /// A detector for calibrated per-axis noise `noise_rms_q16` (Q16 LSB), starting still
-    /// (calibration has just shown the device at rest).
-    pub fn new(s: &DriftSettings, noise_rms_q16: [u64; 3]) -> Self {
-        let w = u64::from(s.window);
-        let thr = |rms_q16: u64, f_q8: u32| -> u64 {
-            // W^2 * max(sigma^2, 1/4) * f, with sigma^2 in Q32 and f in Q8.
-            let var_q32 = u128::from(rms_q16) * u128::from(rms_q16);
-            let var_q32 = var_q32.max(1 << 30);
-            let t = (u128::from(w * w) * var_q32 * u128::from(f_q8)) >> 40;
-            t.min(u128::from(u64::MAX)) as u64
-        };
+    /// A detector starting Still after a calibration of `cal` (the device has just been
+    /// seen at rest).
+    pub fn new(s: &DriftSettings, cal: &[Calibration; 3]) -> Self {
+        let ticks = u64::from(cal[0].samples / s.tick).max(1);
+        let noise = cal.map(|c| {
+            // The calibration's q comes from k ticks, about k / 4 independent ones at the
+            // ADXL335's correlation: its relative sd is sqrt(8 / k) (20 % for 1 s). Start
+            // from the upper 2-sd bound; rest refines it (`learn_noise`).
+            let q = u128::from(c.long_run_var_q32);
+            let inflate_q8 = 256 + crate::math::isqrt_u128(8 * 4 * 65_536 / u128::from(ticks));
+            let q = ((q * inflate_q8) >> 8).min(u128::from(u64::MAX)) as u64;
+            Noise::new(s, q, c.tick_var_q32)
+        });
         Self {
-            codes: [[0; 3]; WINDOW_MAX],
-            filtered: [[0; 3]; WINDOW_MAX],
-            head: 0,
-            filled: 0,
-            sum: [0; 3],
-            sum_sq: [0; 3],
-            still_thr: noise_rms_q16.map(|r| thr(r, s.still_q8)),
-            move_thr: noise_rms_q16.map(|r| thr(r, s.move_q8)),
-            still: true,
-            since_bias: 0,
+            codes: [[0; 3]; RING],
+            sums: [[BlockSums::default(); 3]; REPLAY],
+            cur_codes: [0; 3],
+            cur_sums: [BlockSums::default(); 3],
+            cur_n: 0,
+            ticks: 0,
+            state: State::Still,
+            entered: 0,
+            cusum: [[0; 2]; 2],
+            onset: [[0; 2]; 2],
+            quiet_run: 0,
+            suspect: None,
+            motion_samples: 0,
+            peak_w: [0; 2],
+            freeze_left: 0,
+            bias_samples: u64::from(cal[0].samples),
+            noise,
+            learn_sum: [0; 3],
+            learn_ticks: 0,
         }
     }
 
-    /// Adds one sample (raw codes and the filtered values) and decides, against the axes'
-    /// current biases (Q16 counts).
+    /// The current state.
+    pub const fn state(&self) -> State {
+        self.state
+    }
+
+    /// Whether the current sample is to be integrated (a motion is under way).
+    pub const fn integrating(&self) -> bool {
+        matches!(self.state, State::Moving)
+    }
+
+    /// Whether a motion is held back from delivery: younger than `hold_s`, or looking like
+    /// a tilt (steady and off the bias for `rest_s`) and not yet confirmed or refuted.
+    pub const fn holds(&self, s: &DriftSettings) -> bool {
+        matches!(self.state, State::Moving)
+            && (self.motion_samples < s.hold || self.suspect.is_some())
+    }
+
+    /// The filtered sums of the last `ticks` ticks (`<= REPLAY`), oldest first.
+    pub fn replay(&self, ticks: usize) -> impl Iterator<Item = &[BlockSums; 3]> + '_ {
+        let first = self.ticks - ticks.min(REPLAY) as u64;
+        (first..self.ticks).map(move |i| &self.sums[(i % REPLAY as u64) as usize])
+    }
+
+    /// A button changed state: the held motion (if any) is discarded, a delivered one
+    /// stops, and nothing is integrated for the click freeze.
+    pub fn click(&mut self, s: &DriftSettings) -> Action {
+        let action = match self.state {
+            State::Moving if self.holds(s) => Action::Discard,
+            State::Moving => Action::Stop,
+            _ => Action::None,
+        };
+        if s.freeze > 0 {
+            self.state = State::Frozen;
+            self.freeze_left = s.freeze;
+        } else if self.state == State::Moving {
+            self.enter_still();
+        }
+        action
+    }
+
+    /// Adds one sample: its raw `codes`, its filtered values `y` (Q16 counts), the axes'
+    /// biases (Q16 counts) and velocities (`W = 2 V`, [`crate::IntegratorState::velocity`])
+    /// after it was integrated (if it was). Returns what the tracker must do.
     pub fn push(
         &mut self,
         s: &DriftSettings,
         codes: [u16; 3],
-        filtered: [i64; 3],
-        bias_q16: [i64; 3],
-    ) -> Verdict {
-        let w = s.window as usize;
-        if self.filled == w {
-            let old = self.codes[self.head];
-            for ((sum, sum_sq), &o) in self.sum.iter_mut().zip(&mut self.sum_sq).zip(&old) {
-                let o = u64::from(o);
-                *sum -= o;
-                *sum_sq -= o * o;
+        y: [i64; 3],
+        bias: [i64; 3],
+        velocity: [i64; 3],
+    ) -> Action {
+        for a in 0..3 {
+            self.cur_codes[a] += u32::from(codes[a]);
+            self.cur_sums[a].push(y[a]);
+        }
+        self.cur_n += 1;
+        let mut action = Action::None;
+        match self.state {
+            State::Moving => self.motion_samples += 1,
+            State::Frozen => {
+                self.freeze_left = self.freeze_left.saturating_sub(1);
+                if self.freeze_left == 0 {
+                    self.enter_still();
+                    action = Action::Stop;
+                }
             }
-        } else {
-            self.filled += 1;
+            State::Still | State::Lifted => {}
         }
-        self.codes[self.head] = codes;
-        self.filtered[self.head] = filtered;
-        self.head = (self.head + 1) % w;
-        for ((sum, sum_sq), &v) in self.sum.iter_mut().zip(&mut self.sum_sq).zip(&codes) {
-            let v = u64::from(v);
-            *sum += v;
-            *sum_sq += v * v;
+        if self.cur_n < s.tick {
+            return action;
         }
-        if self.filled < w {
-            return if self.still {
-                Verdict::Still
-            } else {
-                Verdict::Moving
+        let slot = (self.ticks % RING as u64) as usize;
+        self.codes[slot] = core::mem::take(&mut self.cur_codes);
+        self.sums[(self.ticks % REPLAY as u64) as usize] = core::mem::take(&mut self.cur_sums);
+        self.cur_n = 0;
+        self.ticks += 1;
+        match action {
+            Action::None => self.tick(s, bias, velocity),
+            other => other,
+        }
+    }
+
+    fn enter_still(&mut self) {
+        self.state = State::Still;
+        self.learn_sum = [0; 3];
+        self.learn_ticks = 0;
+        self.suspect = None;
+        self.entered = self.ticks;
+        self.cusum = [[0; 2]; 2];
+        self.onset = [[self.ticks; 2]; 2];
+    }
+
+    /// Offset of the last `k` ticks' code sum on `axis` from the bias [Q16 LSB samples].
+    fn offset(&self, s: &DriftSettings, axis: usize, k: u32, bias: i64) -> i128 {
+        let sum: u64 = (0..u64::from(k))
+            .map(|i| {
+                u64::from(self.codes[(self.ticks.wrapping_sub(1 + i) % RING as u64) as usize][axis])
+            })
+            .sum();
+        (i128::from(sum) << 16) - i128::from(k) * i128::from(s.tick) * i128::from(bias)
+    }
+
+    /// Whether an offset `d` (Q16) of a sum over `n` samples is within `k2_q8` (a squared
+    /// multiple, Q8) of its sd, counting the bias's own uncertainty (`N_b` samples).
+    fn explained(&self, axis: usize, d: i128, n: u64, k2_q8: u64) -> bool {
+        let n = u128::from(n);
+        let var = mul(
+            u128::from(self.noise[axis].q_q32),
+            n + n * n / u128::from(self.bias_samples.max(1)),
+        );
+        mul(d.unsigned_abs(), d.unsigned_abs()) <= mul(var, u128::from(k2_q8)) >> 8
+    }
+
+    /// Whether the last `k` ticks are steady on every axis: the tick sums' scatter
+    /// `k sum s^2 - (sum s)^2` at most `rest_factor k (k - 1) D g0` (no jolt, no wobble),
+    /// and their trend `b = sum x s` with `x = 2 i - (k - 1)` within `quiet_sigmas` of its
+    /// sd `sqrt(q D k (k^2 - 1) / 3)` (no ramp: a stroke's acceleration rises and falls
+    /// smoothly, which the scatter alone sees only when it is large).
+    fn steady(&self, s: &DriftSettings, k: u32) -> bool {
+        (0..3).all(|a| {
+            let (mut sum, mut sum_sq, mut trend) = (0u128, 0u128, 0i128);
+            for i in 0..u64::from(k) {
+                let v = self.codes[(self.ticks.wrapping_sub(1 + i) % RING as u64) as usize][a];
+                let v2 = u128::from(v);
+                sum += v2;
+                sum_sq += v2 * v2;
+                // Newest first: x runs from k - 1 down to -(k - 1).
+                trend += (i128::from(k) - 1 - 2 * i128::from(i)) * i128::from(v);
+            }
+            let kk = u128::from(k);
+            let scatter = kk * sum_sq - sum * sum; // < 2^6 * 2^6 * 2^50
+            let noise = self.noise[a];
+            let bound = mul(
+                mul(
+                    u128::from(s.rest_factor_q8),
+                    kk * (kk - 1) * u128::from(s.tick),
+                ),
+                u128::from(noise.g0_q32),
+            );
+            // |trend| < 2^6 * 2^6 * 2^25: its square below 2^74, shifted 2^106.
+            let t2 = trend.unsigned_abs() * trend.unsigned_abs();
+            let t_bound = mul(
+                mul(u128::from(s.quiet_k2_q8), u128::from(noise.q_q32)),
+                u128::from(s.tick) * kk * (kk * kk - 1) / 3,
+            ) >> 8;
+            scatter << 40 <= bound && t2 << 32 <= t_bound
+        })
+    }
+
+    /// The means of the last `k` ticks as biases (Q16 counts, rounded).
+    fn means(&self, s: &DriftSettings, k: u32, bias: [i64; 3]) -> [i64; 3] {
+        let n = i128::from(k) * i128::from(s.tick);
+        core::array::from_fn(|a| {
+            let d = self.offset(s, a, k, bias[a]);
+            bias[a] + ((2 * d + d.signum() * n) / (2 * n)) as i64
+        })
+    }
+
+    fn lifted(&self, s: &DriftSettings, bias: [i64; 3]) -> bool {
+        let Some(lift) = s.lift_q16 else {
+            return false;
+        };
+        let off = |a: usize| self.offset(s, a, 1, bias[a]).unsigned_abs();
+        let xy = (off(0) + off(1)) as i128;
+        off(2) as i128
+            > i128::from(s.tick) * i128::from(lift) + ((i128::from(s.lift_ratio_q8) * xy) >> 8)
+    }
+
+    /// Decisions at the end of a tick.
+    fn tick(&mut self, s: &DriftSettings, bias: [i64; 3], velocity: [i64; 3]) -> Action {
+        if matches!(self.state, State::Still | State::Moving) && self.lifted(s, bias) {
+            let held = self.holds(s);
+            self.state = State::Lifted;
+            self.entered = self.ticks;
+            return if held { Action::Discard } else { Action::Stop };
+        }
+        match self.state {
+            State::Still => self.still_tick(s, bias),
+            State::Moving => self.moving_tick(s, bias, velocity),
+            State::Lifted => self.lifted_tick(s, bias),
+            State::Frozen => Action::None,
+        }
+    }
+
+    fn still_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        let mut alarm: Option<u64> = None;
+        for (a, &b) in bias.iter().enumerate().take(2) {
+            let d = self.offset(s, a, 1, b) as i64;
+            let n = self.noise[a];
+            for (side, z) in [d, -d].into_iter().enumerate() {
+                let c = &mut self.cusum[a][side];
+                *c = (*c + z - n.kappa).max(0);
+                if *c == 0 {
+                    self.onset[a][side] = self.ticks;
+                } else if *c > n.alarm {
+                    let on = self.onset[a][side];
+                    alarm = Some(alarm.map_or(on, |o| o.min(on)));
+                }
+            }
+        }
+        if let Some(onset) = alarm {
+            let ticks = (self.ticks - onset).clamp(1, REPLAY as u64);
+            self.state = State::Moving;
+            self.entered = self.ticks;
+            self.motion_samples = ticks * u64::from(s.tick);
+            self.peak_w = [0; 2];
+            self.quiet_run = 0;
+            self.suspect = None;
+            return Action::Start {
+                ticks: ticks as usize,
             };
         }
-        let n = w as u64;
-        // W^2 var and W^2 (mean - bias)^2, in LSB^2: the thresholds' units.
-        let scatter = |a: usize| n * self.sum_sq[a] - self.sum[a] * self.sum[a];
-        let offset = |a: usize| {
-            // W (mean - bias) in Q8 LSB: |d| < 128 * 65536 * 2^8 = 2^31, so d^2 fits u64.
-            let d = ((self.sum[a] as i64) << 8) - ((n as i64 * bias_q16[a]) >> 8);
-            (d.unsigned_abs() * d.unsigned_abs()) >> 16
+        // The tick REPLAY ticks old, once the device has been still all the time since: the
+        // ticks a motion's onset could still claim are not averaged in.
+        if self.ticks - self.entered < REPLAY as u64 {
+            return Action::None;
+        }
+        let old = ((self.ticks - REPLAY as u64) % RING as u64) as usize;
+        self.learn_noise(s, old, bias);
+        let Some(max) = s.bias_samples_max else {
+            return Action::None;
         };
-        let was = self.still;
-        if self.still {
-            self.still =
-                (0..3).all(|a| scatter(a) <= self.move_thr[a] && offset(a) <= self.move_thr[a]);
-        } else {
-            self.still =
-                (0..3).all(|a| scatter(a) < self.still_thr[a] && offset(a) < self.still_thr[a]);
-        }
-        match (was, self.still) {
-            (true, false) => Verdict::Started,
-            (_, true) => Verdict::Still,
-            (false, false) => Verdict::Moving,
-        }
-    }
-
-    /// The buffered filtered samples, oldest first.
-    pub fn window(&self, s: &DriftSettings) -> impl Iterator<Item = [i64; 3]> + '_ {
-        let w = s.window as usize;
-        let n = self.filled;
-        (0..n).map(move |i| self.filtered[(self.head + w - n + i) % w])
-    }
-
-    /// While still: once per full window, the new bias for each axis (Q16), `1/M` of the
-    /// way from `bias_q16` to the window mean, rounded; `None` between updates or when
-    /// tracking is off.
-    pub fn bias_update(&mut self, s: &DriftSettings, bias_q16: [i64; 3]) -> Option<[i64; 3]> {
-        let m = s.bias_steps?;
-        self.since_bias += 1;
-        if self.since_bias < u32::from(s.window) || self.filled < s.window as usize {
-            return None;
-        }
-        self.since_bias = 0;
-        let w = i64::from(s.window);
-        let m = i64::from(m);
-        Some(core::array::from_fn(|a| {
-            // sum < 2^23, so sum 2^16 < 2^39: i64 throughout.
-            let mean_q16 = ((self.sum[a] as i64) << 16) / w;
-            let d = mean_q16 - bias_q16[a];
-            // Round half away from zero: d / m.
-            let step = (2 * d + d.signum() * m) / (2 * m);
-            bias_q16[a] + step
+        let d_tick = i128::from(s.tick);
+        self.bias_samples = (self.bias_samples + u64::from(s.tick)).min(max);
+        let w = i128::from(self.bias_samples);
+        Action::TrackBias(core::array::from_fn(|a| {
+            let d = (i128::from(self.codes[old][a]) << 16) - d_tick * i128::from(bias[a]);
+            bias[a] + ((2 * d + d.signum() * w) / (2 * w)) as i64
         }))
     }
 
-    /// Whether the detector currently says still.
-    pub const fn is_still(&self) -> bool {
-        self.still
+    /// Learns `q` at rest: the squared offset of each block of `LEARN_TICKS` rest ticks,
+    /// per sample, averaged over `LEARN_BLOCKS` blocks. The calibration measured one
+    /// second; this follows the sensor as it is, for as long as it rests.
+    fn learn_noise(&mut self, s: &DriftSettings, tick: usize, bias: [i64; 3]) {
+        for (sum, &c) in self.learn_sum.iter_mut().zip(&self.codes[tick]) {
+            *sum += u64::from(c);
+        }
+        self.learn_ticks += 1;
+        if self.learn_ticks < LEARN_TICKS {
+            return;
+        }
+        let n = i128::from(LEARN_TICKS) * i128::from(s.tick);
+        for a in 0..3 {
+            // Offset in Q16 LSB samples; its square over n is a variance per sample in Q32.
+            let e = (i128::from(self.learn_sum[a]) << 16) - n * i128::from(bias[a]);
+            let var = (e.unsigned_abs() * e.unsigned_abs() / n as u128).min(u128::from(u64::MAX));
+            let q = u128::from(self.noise[a].q_q32);
+            let m = u128::from(LEARN_BLOCKS);
+            let q = ((q * (m - 1) + var) / m).max(1 << 30) as u64;
+            self.noise[a] = Noise::new(s, q, self.noise[a].g0_q32);
+        }
+        self.learn_sum = [0; 3];
+        self.learn_ticks = 0;
+    }
+
+    fn moving_tick(&mut self, s: &DriftSettings, bias: [i64; 3], velocity: [i64; 3]) -> Action {
+        let k = s.quiet_ticks;
+        let n = u64::from(k) * u64::from(s.tick);
+        let quiet =
+            (0..2).all(|a| self.explained(a, self.offset(s, a, k, bias[a]), n, s.quiet_k2_q8));
+        self.quiet_run = if quiet { self.quiet_run + 1 } else { 0 };
+        for (peak, v) in self.peak_w.iter_mut().zip(velocity) {
+            *peak = (*peak).max(v.unsigned_abs());
+        }
+        let v_ok = (0..2).all(|a| {
+            let w = i128::from(velocity[a]);
+            // W = 2 V: Var(W) = 4 Var(V); compare (W / 2)^2, i.e. d = W / 2 with k^2.
+            let by_noise = self.explained(a, w / 2, self.motion_samples, s.velocity_k2_q8);
+            let by_peak = u128::from(velocity[a].unsigned_abs()) << 8
+                <= u128::from(self.peak_w[a]) * u128::from(s.stop_fraction_q8);
+            by_noise || by_peak
+        });
+        if quiet && (v_ok || self.quiet_run >= s.coast_ticks) {
+            // A motion that ends younger than the hold was a jolt, not a stroke; a tilt
+            // suspicion that ends in a stop was refuted: deliver.
+            let held = self.motion_samples < s.hold;
+            self.enter_still();
+            return if held { Action::Discard } else { Action::Stop };
+        }
+        // A tilt: steady and off the bias for rest_s. Hold the motion from then on; if it
+        // stays so for another rest_s it was never motion: discard it and take the new zero.
+        // If it changes, it was a slow stroke's acceleration: deliver it.
+        let m = s.rest_ticks;
+        let nm = u64::from(m) * u64::from(s.tick);
+        let tilt = self.ticks - self.entered >= u64::from(m)
+            && self.steady(s, m)
+            && (0..2).any(|a| !self.explained(a, self.offset(s, a, m, bias[a]), nm, s.quiet_k2_q8));
+        match (tilt, self.suspect) {
+            (false, _) => self.suspect = None,
+            (true, None) => self.suspect = Some(self.ticks),
+            (true, Some(since)) if self.ticks - since >= u64::from(m) => {
+                let b = self.means(s, m, bias);
+                self.enter_still();
+                self.bias_samples = nm;
+                return Action::Rebias {
+                    bias: b,
+                    discard: true,
+                };
+            }
+            (true, Some(_)) => {}
+        }
+        Action::None
+    }
+
+    fn lifted_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        let m = s.rest_ticks;
+        if self.ticks - self.entered < u64::from(m) || !self.steady(s, m) {
+            return Action::None;
+        }
+        let nm = u64::from(m) * u64::from(s.tick);
+        let moved =
+            (0..3).any(|a| !self.explained(a, self.offset(s, a, m, bias[a]), nm, s.quiet_k2_q8));
+        let b = self.means(s, m, bias);
+        self.enter_still();
+        if moved {
+            self.bias_samples = nm;
+            Action::Rebias {
+                bias: b,
+                discard: false,
+            }
+        } else {
+            Action::Stop
+        }
     }
 }
 
@@ -291,103 +788,105 @@ impl Detector {
 mod tests {
     use super::*;
 
-    fn settings() -> DriftSettings {
-        Drift::default().validate(3000).expect("valid")
-    }
-
     #[test]
     fn validation_names_the_field() {
         let d = Drift::default();
+        let v = |d: Drift| d.validate(3000, 0.023942);
         assert_eq!(
-            Drift {
-                window_s: 0.001,
+            v(Drift {
+                start_sigmas: 0.5,
                 ..d
-            }
-            .validate(3000),
-            Err(DriftError::Window)
+            }),
+            Err(DriftError::StartSigmas)
+        );
+        assert_eq!(v(Drift { hold_s: 0.2, ..d }), Err(DriftError::Hold));
+        assert_eq!(
+            v(Drift {
+                quiet_s: 0.001,
+                ..d
+            }),
+            Err(DriftError::QuietWindow)
+        );
+        assert_eq!(v(Drift { quiet_s: 0.4, ..d }), Err(DriftError::QuietWindow));
+        assert_eq!(
+            v(Drift {
+                quiet_sigmas: 0.0,
+                ..d
+            }),
+            Err(DriftError::QuietSigmas)
         );
         assert_eq!(
-            Drift { window_s: 0.1, ..d }.validate(3000),
-            Err(DriftError::Window)
+            v(Drift {
+                velocity_sigmas: -1.0,
+                ..d
+            }),
+            Err(DriftError::VelocitySigmas)
         );
         assert_eq!(
-            Drift {
-                still_factor: 0.5,
+            v(Drift {
+                stop_fraction: 1.5,
                 ..d
-            }
-            .validate(3000),
-            Err(DriftError::Factors)
+            }),
+            Err(DriftError::StopFraction)
+        );
+        assert_eq!(v(Drift { coast_s: 0.01, ..d }), Err(DriftError::Coast));
+        assert_eq!(v(Drift { rest_s: 0.01, ..d }), Err(DriftError::RestWindow));
+        assert_eq!(v(Drift { rest_s: 0.5, ..d }), Err(DriftError::RestWindow));
+        assert_eq!(
+            v(Drift {
+                rest_factor: 0.9,
+                ..d
+            }),
+            Err(DriftError::RestFactor)
         );
         assert_eq!(
-            Drift {
-                move_factor: 1.5,
+            v(Drift {
+                lift_m_s2: Some(0.0),
                 ..d
-            }
-            .validate(3000),
-            Err(DriftError::Factors)
+            }),
+            Err(DriftError::Lift)
         );
         assert_eq!(
-            Drift {
-                bias_tau_s: Some(0.01),
+            v(Drift {
+                lift_xy_ratio: 11.0,
                 ..d
-            }
-            .validate(3000),
+            }),
+            Err(DriftError::Lift)
+        );
+        assert_eq!(
+            v(Drift {
+                bias_tau_s: Some(0.1),
+                ..d
+            }),
             Err(DriftError::BiasTau)
         );
         assert_eq!(
-            Drift {
+            v(Drift {
                 click_freeze_s: 3.0,
                 ..d
-            }
-            .validate(3000),
+            }),
             Err(DriftError::ClickFreeze)
         );
-        assert_eq!(settings().window(), 120);
-        assert_eq!(settings().freeze_samples(), 450);
+        let s = v(d).expect("valid");
+        assert_eq!(s.tick_samples(), 15);
+        assert_eq!((s.quiet_ticks, s.rest_ticks, s.coast_ticks), (4, 60, 100));
+        assert_eq!(s.freeze_samples(), 450);
+        assert_eq!(s.hold_samples(), 36);
+        assert!(v(Drift {
+            lift_m_s2: None,
+            ..d
+        })
+        .is_ok());
     }
 
     #[test]
-    fn quiet_stays_still_and_a_jolt_starts_motion() {
-        let s = settings();
-        let mut d = Detector::new(&s, [65_536; 3]); // 1 LSB rms
-        for i in 0..1000 {
-            let v = 2048 + [0, 1, 0, 65_535][i % 4] as u16 % 3; // +-1 LSB dither
-            assert_ne!(
-                d.push(&s, [v; 3], [0; 3], [2048 << 16; 3]),
-                Verdict::Started
-            );
-        }
-        assert!(d.is_still());
-        let mut started = false;
-        for i in 0..60 {
-            let v = if i % 2 == 0 { 2060 } else { 2036 };
-            started |= d.push(&s, [v, 2048, 2048], [0; 3], [2048 << 16; 3]) == Verdict::Started;
-        }
-        assert!(started && !d.is_still());
-    }
-
-    #[test]
-    fn bias_moves_a_fraction_of_the_way_to_the_window_mean() {
-        let s = Drift {
-            bias_tau_s: Some(0.4),
-            ..Drift::default()
-        }
-        .validate(3000)
-        .expect("valid"); // M = 10
-        let mut d = Detector::new(&s, [65_536; 3]);
-        let mut bias = [2048 << 16; 3];
-        let mut updates = 0;
-        for _ in 0..240 {
-            d.push(&s, [2049, 2048, 2047], [0; 3], bias);
-            if let Some(b) = d.bias_update(&s, bias) {
-                bias = b;
-                updates += 1;
-            }
-        }
-        assert_eq!(updates, 2);
-        // Each update: 1/10 of the remaining 65536 Q16: 6554, then 5898.
-        assert_eq!(bias[0], (2048 << 16) + 6554 + 5898);
-        assert_eq!(bias[2], (2048 << 16) - 6554 - 5898);
-        assert_eq!(bias[1], 2048 << 16);
+    fn ticks_scale_with_the_rate_and_windows_stay_in_time() {
+        assert_eq!(tick_samples(100), 1);
+        assert_eq!(tick_samples(20_000), 100);
+        assert_eq!(tick_samples(100_000), 500);
+        // At 100 Hz a tick is 10 ms: the 0.3 s rest window is 30 ticks.
+        let s = Drift::default().validate(100, 0.023942).expect("valid");
+        assert_eq!(s.rest_ticks, 30);
+        assert!(Drift::default().validate(20_000, 0.023942).is_ok());
     }
 }

@@ -15,15 +15,17 @@
 //! While calibrating, nothing moves and [`Tracker::take_counts`] returns zeros. Samples that
 //! the hardware lost are reported with [`Tracker::lost`] and held (the last codes repeated).
 //!
-//! While tracking with drift control ([`crate::stillness`]), each sample goes through the
-//! stillness detector first: still samples are not integrated (and update the bias), the
-//! first moving sample integrates the detector's window from zero velocity, and a button
-//! edge ([`Tracker::button_edge`]) freezes integration for the click-freeze time.
+//! While tracking with drift control ([`crate::stillness`]), a sample is integrated only
+//! while the detector says a motion is under way; at every 5 ms tick the detector decides
+//! and the tracker carries out its [`Action`] on the axes: integrate a motion's onset from
+//! zero velocity, stop, discard a motion not yet delivered, or move the biases. A button
+//! edge ([`Tracker::button_edge`]) discards a motion younger than the hold and freezes
+//! integration for the click-freeze time.
 
 use crate::axis::Axis;
 use crate::calibration::{Calibration, CalibrationError, Calibrator};
 use crate::config::{Config, ConfigError, Settings};
-use crate::stillness::{Detector, Verdict};
+use crate::stillness::{Action, Detector, State};
 use crate::AdcCode;
 
 /// Number of axes the tracker integrates (X, Y, Z in the ADC's scan order).
@@ -70,6 +72,12 @@ pub struct Counters {
     pub motions: u32,
     /// Samples skipped by the click freeze.
     pub frozen_samples: u64,
+    /// Motions discarded before delivery (a click's jolt inside the hold).
+    pub discarded: u32,
+    /// Lifts (or knocks) that suspended tracking.
+    pub lifts: u32,
+    /// New biases after a tilt or a landing.
+    pub rebiases: u32,
 }
 
 /// Integrates one filtered sample on every axis. One copy for every caller (flash).
@@ -89,7 +97,6 @@ pub struct Tracker {
     calibrators: [Calibrator; AXES],
     counters: Counters,
     detector: Option<Detector>,
-    freeze_left: u32,
 }
 
 impl Tracker {
@@ -106,7 +113,6 @@ impl Tracker {
             calibrators: [settings.calibrator(); AXES],
             counters: Counters::default(),
             detector: None,
-            freeze_left: 0,
         })
     }
 
@@ -124,7 +130,6 @@ impl Tracker {
     pub fn recalibrate(&mut self) {
         self.phase = Phase::Calibrating;
         self.detector = None;
-        self.freeze_left = 0;
         self.calibrators = [self.settings.calibrator(); AXES];
         for axis in &mut self.axes {
             axis.stop();
@@ -157,6 +162,8 @@ impl Tracker {
             bias_q16: 0,
             noise_rms_q16: 0,
             samples: 0,
+            tick_var_q32: 0,
+            long_run_var_q32: 0,
         }; AXES];
         for (i, cal) in self.calibrators.iter_mut().enumerate() {
             match cal.finish() {
@@ -175,16 +182,14 @@ impl Tracker {
             axis.set_bias_q16(r.bias_q16);
             axis.stop();
         }
-        self.detector = self
-            .settings
-            .drift()
-            .map(|d| Detector::new(d, results.map(|r| r.noise_rms_q16)));
+        self.detector = self.settings.drift().map(|d| Detector::new(d, &results));
         self.phase = Phase::Tracking;
         Event::Calibrated(results)
     }
 
-    /// One tracked sample: filter, stillness detector, then integration (or not). Not
-    /// inlined: `feed` and `lost` share one copy (flash on the device).
+    /// One tracked sample: filter, integration while a motion is under way, then the
+    /// detector's decision. Not inlined: `feed` and `lost` share one copy (flash on the
+    /// device).
     #[inline(never)]
     fn track(&mut self, codes: [u16; AXES]) {
         let s = self.settings;
@@ -193,45 +198,72 @@ impl Tracker {
             integrate_all(&mut self.axes, &s, y);
             return;
         };
-        let was_still = det.is_still();
-        let bias = self.axes.each_ref().map(Axis::bias_q16);
-        let verdict = det.push(ds, codes, y, bias);
-        if self.freeze_left > 0 {
-            self.freeze_left -= 1;
-            self.counters.frozen_samples += 1;
-            if self.freeze_left == 0 {
-                self.axes.iter_mut().for_each(Axis::zero_velocity);
-            }
-            return;
+        match det.state() {
+            State::Moving => integrate_all(&mut self.axes, &s, y),
+            State::Still => self.counters.still_samples += 1,
+            State::Frozen => self.counters.frozen_samples += 1,
+            State::Lifted => {}
         }
-        match verdict {
-            Verdict::Moving => integrate_all(&mut self.axes, &s, y),
-            Verdict::Started => {
+        let bias = self.axes.each_ref().map(Axis::bias_q16);
+        let velocity = self.axes.each_ref().map(|a| a.integrator().velocity());
+        let action = det.push(ds, codes, y, bias, velocity);
+        if det.state() == State::Lifted && matches!(action, Action::Stop | Action::Discard) {
+            self.counters.lifts += 1;
+        }
+        self.apply(action);
+    }
+
+    /// Carries out a drift-control decision on the axes.
+    fn apply(&mut self, action: Action) {
+        let s = self.settings;
+        match action {
+            Action::None => {}
+            Action::Start { ticks } => {
                 self.counters.motions += 1;
-                for w in det.window(ds) {
-                    integrate_all(&mut self.axes, &s, w);
+                self.axes.iter_mut().for_each(Axis::zero_velocity);
+                if let Some(det) = &self.detector {
+                    for sums in det.replay(ticks) {
+                        for (axis, b) in self.axes.iter_mut().zip(sums) {
+                            axis.integrate_block(&s, b);
+                        }
+                    }
                 }
             }
-            Verdict::Still => {
-                self.counters.still_samples += 1;
-                if !was_still {
-                    self.axes.iter_mut().for_each(Axis::zero_velocity);
-                }
-                if let Some(b) = det.bias_update(ds, bias) {
-                    for (axis, b) in self.axes.iter_mut().zip(b) {
-                        axis.track_bias_q16(b);
+            Action::Stop => self.axes.iter_mut().for_each(Axis::zero_velocity),
+            Action::Discard => {
+                self.counters.discarded += 1;
+                self.axes.iter_mut().for_each(Axis::stop);
+            }
+            Action::Rebias { bias, discard } => {
+                self.counters.rebiases += 1;
+                for (axis, b) in self.axes.iter_mut().zip(bias) {
+                    axis.track_bias_q16(b);
+                    if discard {
+                        axis.stop();
+                    } else {
+                        axis.zero_velocity();
                     }
+                }
+            }
+            Action::TrackBias(b) => {
+                for (axis, b) in self.axes.iter_mut().zip(b) {
+                    axis.track_bias_q16(b);
                 }
             }
         }
     }
 
-    /// A button changed state: with drift control, integration pauses for the click-freeze
-    /// time and restarts from zero velocity, so the jolt of a click does not drag the cursor.
+    /// A button changed state: with drift control, a motion younger than the hold is
+    /// discarded (the click's jolt began before its debounced edge was known), and
+    /// integration pauses for the click-freeze time, restarting from zero velocity.
     pub fn button_edge(&mut self) {
-        if let (Phase::Tracking, Some(d)) = (self.phase, self.settings.drift()) {
-            self.freeze_left = d.freeze_samples();
-        }
+        let (Phase::Tracking, Some(ds), Some(det)) =
+            (self.phase, self.settings.drift(), self.detector.as_mut())
+        else {
+            return;
+        };
+        let action = det.click(ds);
+        self.apply(action);
     }
 
     /// Reports `lost` sample triples that the hardware dropped (ADC or DMA overrun). While
@@ -250,12 +282,27 @@ impl Tracker {
     /// Whether drift control currently holds the device still (`false` without drift
     /// control or while calibrating).
     pub fn is_still(&self) -> bool {
-        self.phase == Phase::Tracking && self.detector.is_some_and(|d| d.is_still())
+        self.drift_state() == Some(State::Still)
+    }
+
+    /// Drift control's state while tracking (`None` without drift control or while
+    /// calibrating).
+    pub fn drift_state(&self) -> Option<State> {
+        match self.phase {
+            Phase::Tracking => self.detector.as_ref().map(Detector::state),
+            Phase::Calibrating => None,
+        }
     }
 
     /// Drains the motion since the last call as whole mouse counts `[x, y, z]`, remainders
-    /// carried. Zeros while calibrating.
+    /// carried. Zeros while calibrating, and while drift control holds a new motion back
+    /// (younger than its hold; the counts follow once it is older).
     pub fn take_counts(&mut self) -> [i32; AXES] {
+        if let (Some(ds), Some(det)) = (self.settings.drift(), &self.detector) {
+            if det.holds(ds) {
+                return [0; AXES];
+            }
+        }
         let settings = &self.settings;
         self.axes.each_mut().map(|axis| axis.take_counts(settings))
     }

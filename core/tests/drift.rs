@@ -105,12 +105,14 @@ fn a_stroke_arrives_whole_despite_the_detector_window() {
 
 #[test]
 fn the_bias_follows_slow_drift_at_rest() {
-    // The zero-g output creeps up by 1 LSB over a minute (temperature).
+    // The zero-g output creeps up by 1 LSB over a minute (temperature): dithered, so the
+    // mean moves smoothly.
     let mut on = tracker(Some(Drift::default()));
     let mut off = tracker(None);
     let drift = |i: usize, n: &mut Noise| {
-        let mid = if i * 2 > 60 * 3000 { 2049 } else { 2048 };
-        [n.code(mid), n.code(2048), n.code(2048)]
+        let frac = (i as f64 / (60.0 * 3000.0)).min(1.0);
+        let up = (n.next() % 1_000_000) as f64 / 1e6 < frac;
+        [n.code(2048) + u16::from(up), n.code(2048), n.code(2048)]
     };
     let (mut n1, mut n2) = (Noise(Trace::new(3)), Noise(Trace::new(3)));
     let a = run(&mut on, 120 * 3000, |i| drift(i, &mut n1));
@@ -122,10 +124,154 @@ fn the_bias_follows_slow_drift_at_rest() {
 }
 
 #[test]
-fn a_click_does_not_drag_the_cursor() {
+fn a_stroke_that_coasts_in_the_middle_is_not_cut_there() {
+    // +20 LSB for 0.2 s, nothing for 0.3 s (the hand glides at 0.096 m/s), -20 LSB for
+    // 0.2 s. The window is quiet in the middle, but the velocity is 100 times its noise:
+    // the stroke goes on. Control: with every velocity "explained" it stops mid-glide.
+    let stroke = |i: usize| {
+        let v = match i {
+            0..=2999 => 2048,
+            3000..=3599 => 2068,
+            3600..=4499 => 2048,
+            4500..=5099 => 2028,
+            _ => 2048,
+        };
+        [v, 2048, 2048]
+    };
+    let lsb = Config::default().m_s2_per_lsb;
+    // a t1^2 + a t1 t_glide = 20 LSB (0.04 + 0.06) s^2 -> counts at 800 cpi.
+    let want = 20.0 * lsb * (0.04 + 0.06) / 0.0254 * 800.0;
+    // The pure integrator over the stroke's samples alone: the same calibrated bias.
+    let mut pure = tracker(None);
+    let p = run(&mut pure, 2100, |i| stroke(i + 3000));
+    // The calibration's bias is off by sd 1 / sqrt(3000) = 0.018 LSB; 3 sd over 0.7 s is
+    // 0.055 LSB * 0.0239 m/s^2 * 0.7^2 / 2 = 0.32 mm = 10 counts.
+    assert!((p[0] as f64 - want).abs() <= 10.0, "{p:?} vs {want}");
+    let mut on = tracker(Some(Drift::default()));
+    let a = run(&mut on, 9000, stroke);
+    // Drift control has tracked the bias during the second of quiet rest before the stroke
+    // (the pure run keeps the calibration's): the same 10-count bound.
+    assert!((a[0] - p[0]).abs() <= 10, "{a:?} vs {p:?}");
+    assert_eq!(on.counters().motions, 1);
+    let mut cut = tracker(Some(Drift {
+        velocity_sigmas: 1000.0,
+        ..Drift::default()
+    }));
+    let c = run(&mut cut, 9000, stroke);
+    assert!((c[0] - p[0]).abs() > 100, "{c:?} vs {p:?}");
+}
+
+#[test]
+fn a_glide_that_no_acceleration_explains_stops_after_coast_s() {
+    // +20 LSB for 0.1 s and never the deceleration (a hand that stops gently, below the
+    // noise): the cursor glides for coast_s and stops, and stays still.
+    let glide = |i: usize| {
+        let v = if (3000..3300).contains(&i) {
+            2068
+        } else {
+            2048
+        };
+        [v, 2048, 2048]
+    };
+    let mut t = tracker(Some(Drift::default()));
+    let a = run(&mut t, 3300 + 1500 + 60, glide); // until just after 0.5 s of quiet
+    assert!(t.is_still(), "{:?} {:?}", t.drift_state(), t.counters());
+    let b = run(&mut t, 6000, |i| glide(i + 9000));
+    assert_eq!(b, [0, 0, 0]);
+    // 0.1 s at 20 LSB (v = 0.0479 m/s) then about 0.5 s of glide: 24 mm + 2.4 mm.
+    let lsb = Config::default().m_s2_per_lsb;
+    let v = 20.0 * lsb * 0.1;
+    let at = |t_glide: f64| (v * 0.05 + v * t_glide) / 0.0254 * 800.0;
+    assert!(
+        (a[0] as f64) > at(0.45) && (a[0] as f64) < at(0.56),
+        "{a:?} vs {}..{}",
+        at(0.45),
+        at(0.56)
+    );
+}
+
+#[test]
+fn a_tilt_stops_within_half_a_second_and_becomes_the_new_zero() {
+    // Rest, then the desk tilts by 2 degrees within 0.1 s (X reads 14 LSB more) and stays.
+    // The cursor runs while the tilt builds and for rest_s after; then it stops (held), and
+    // rest_s later the tilt is the new zero.
+    let tilt = |i: usize, n: &mut Noise| {
+        let f = ((i as f64 - 3000.0) / 300.0).clamp(0.0, 1.0);
+        [
+            n.code(2048 + (14.0 * f).round() as u16),
+            n.code(2048),
+            n.code(2048),
+        ]
+    };
+    let mut t = tracker(Some(Drift::default()));
+    let mut n = Noise(Trace::new(5));
+    let runaway = run(&mut t, 3300 + 1500, |i| tilt(i, &mut n));
+    assert!(runaway[0] > 0, "{runaway:?}");
+    let after = run(&mut t, 30_000, |i| tilt(i + 4800, &mut n));
+    assert_eq!(after, [0, 0, 0]);
+    assert!(t.is_still(), "{:?}", t.drift_state());
+    assert_eq!(t.counters().rebiases, 1);
+    let bias = t.axes()[0].bias_q16() as f64 / 65_536.0;
+    assert!((bias - 2062.0).abs() < 0.1, "bias {bias}");
+}
+
+#[test]
+fn a_lift_and_a_tilted_landing_do_not_move_the_cursor() {
+    // Lifted 2 cm in 0.3 s (Z: +54, -54 LSB), tilted by 3 degrees while in the air, set
+    // down: X reads +21 LSB from then on. Control: without lift detection it moves.
+    let lift = |i: usize, n: &mut Noise| {
+        let (x, z) = match i {
+            0..=2999 => (2048, 2048),
+            3000..=3449 => (2048 + ((i - 3000) / 20) as u16, 2102),
+            3450..=3899 => (2069, 1994),
+            _ => (2069, 2048),
+        };
+        [n.code(x), n.code(2048), n.code(z)]
+    };
+    for (detect, moves) in [(Some(0.3), false), (None, true)] {
+        let mut t = tracker(Some(Drift {
+            lift_m_s2: detect,
+            ..Drift::default()
+        }));
+        let mut n = Noise(Trace::new(9));
+        let a = run(&mut t, 15_000, |i| lift(i, &mut n));
+        let moved = a[0].abs() + a[1].abs();
+        assert_eq!(moved > 160, moves, "lift {detect:?}: {a:?}"); // 160 counts = 5 mm
+        if !moves {
+            assert_eq!(a, [0, 0, 0]);
+            assert_eq!((t.counters().lifts, t.counters().rebiases), (1, 1));
+            assert!(t.is_still());
+        }
+    }
+}
+
+#[test]
+fn a_knock_moves_nothing_and_keeps_the_bias() {
+    // A knock on the desk: Z rings at +-80 LSB for 30 ms, X at +-10 LSB.
+    let knock = |i: usize, n: &mut Noise| {
+        let ring = (6000..6090).contains(&i);
+        let s = if i % 6 < 3 { 1i32 } else { -1 };
+        let x = if ring { 2048 + 10 * s } else { 2048 };
+        let z = if ring { 2048 + 80 * s } else { 2048 };
+        [n.code(x as u16), n.code(2048), n.code(z as u16)]
+    };
+    let mut t = tracker(Some(Drift::default()));
+    let mut n = Noise(Trace::new(4));
+    let bias = t.axes()[0].bias_q16();
+    let a = run(&mut t, 12_000, |i| knock(i, &mut n));
+    assert_eq!(a, [0, 0, 0]);
+    assert_eq!((t.counters().lifts, t.counters().rebiases), (1, 0));
+    assert!((t.axes()[0].bias_q16() - bias).abs() < 65_536 / 10);
+}
+
+#[test]
+fn a_click_does_not_drag_the_cursor_even_when_its_edge_comes_late() {
+    // The jolt (+42 LSB for 15 ms, then -42: the finger's push and the hand's recoil)
+    // starts at sample 3000; the debounced edge arrives 0, 5 or 10 ms later.
+    // Controls: no hold (the jolt is delivered before the edge), no freeze.
     let jolt = |i: usize| {
         let v = if (3000..3090).contains(&i) {
-            if i % 10 < 5 {
+            if i - 3000 < 45 {
                 2090
             } else {
                 2006
@@ -135,22 +281,34 @@ fn a_click_does_not_drag_the_cursor() {
         };
         [v, v, 2048]
     };
-    for (freeze, drags) in [(0.15, false), (0.0, true)] {
+    let cases = [
+        (0.012, 0.15, 0, false),
+        (0.012, 0.15, 15, false),
+        (0.012, 0.15, 30, false),
+        (0.0, 0.15, 30, true),
+        (0.012, 0.0, 0, true),
+    ];
+    for (hold, freeze, late, drags) in cases {
         let mut t = tracker(Some(Drift {
+            hold_s: hold,
             click_freeze_s: freeze,
             ..Drift::default()
         }));
         let mut total = [0i64; 3];
         for i in 0..9000 {
-            if i == 2995 {
+            if i == 3000 + late {
                 t.button_edge();
             }
             t.feed(&[jolt(i)]);
             for (s, c) in total.iter_mut().zip(t.take_counts()) {
-                *s += i64::from(c);
+                *s += i64::from(c).abs();
             }
         }
-        assert_eq!(total != [0, 0, 0], drags, "freeze {freeze}: {total:?}");
+        assert_eq!(
+            total != [0, 0, 0],
+            drags,
+            "hold {hold} freeze {freeze} late {late}: {total:?}"
+        );
     }
 }
 
@@ -167,15 +325,15 @@ fn lost_samples_at_rest_do_not_move() {
 fn drift_errors_are_named() {
     let bad = Config {
         drift: Some(Drift {
-            window_s: 1.0,
+            rest_s: 1.0,
             ..Drift::default()
         }),
         ..Config::default()
     };
     assert_eq!(
         bad.validate().err(),
-        Some(ConfigError::Drift(DriftError::Window))
+        Some(ConfigError::Drift(DriftError::RestWindow))
     );
-    let msg = format!("{}", ConfigError::Drift(DriftError::Window));
-    assert!(msg.starts_with("drift.window_s"), "{msg}");
+    let msg = format!("{}", ConfigError::Drift(DriftError::RestWindow));
+    assert!(msg.starts_with("drift.rest_s"), "{msg}");
 }
