@@ -13,6 +13,11 @@ pub(crate) const fn round_shr(x: i64, s: u32) -> i64 {
     x.saturating_add(1 << (s - 1)) >> s
 }
 
+/// `d / n` rounded half away from zero, for `n > 0` and `|d| < 2^62`.
+pub(crate) fn div_round(d: i64, n: i64) -> i64 {
+    (2 * d + d.signum() * n) / (2 * n)
+}
+
 /// Floor of the square root of `n`.
 pub(crate) fn isqrt_u128(n: u128) -> u128 {
     if n < 2 {

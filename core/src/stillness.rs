@@ -550,24 +550,29 @@ impl Detector {
     }
 
     /// Offset of the last `k` ticks' code sum on `axis` from the bias [Q16 LSB samples].
-    fn offset(&self, s: &DriftSettings, axis: usize, k: u32, bias: i64) -> i128 {
+    /// `k D <= 64 * 2^14` samples of 16-bit codes: the sum is below `2^36`, shifted `2^52`,
+    /// and `k D bias < 2^52`: `i64`.
+    #[inline(never)]
+    fn offset(&self, s: &DriftSettings, axis: usize, k: u32, bias: i64) -> i64 {
         let sum: u64 = (0..u64::from(k))
             .map(|i| {
                 u64::from(self.codes[(self.ticks.wrapping_sub(1 + i) % RING as u64) as usize][axis])
             })
             .sum();
-        (i128::from(sum) << 16) - i128::from(k) * i128::from(s.tick) * i128::from(bias)
+        ((sum as i64) << 16) - i64::from(k) * i64::from(s.tick) * bias
     }
 
     /// Whether an offset `d` (Q16) of a sum over `n` samples is within `k2_q8` (a squared
     /// multiple, Q8) of its sd, counting the bias's own uncertainty (`N_b` samples).
-    fn explained(&self, axis: usize, d: i128, n: u64, k2_q8: u64) -> bool {
+    #[inline(never)]
+    fn explained(&self, axis: usize, d: i64, n: u64, k2_q8: u64) -> bool {
         let n = u128::from(n);
         let var = mul(
             u128::from(self.noise[axis].q_q32),
             n + n * n / u128::from(self.bias_samples.max(1)),
         );
-        mul(d.unsigned_abs(), d.unsigned_abs()) <= mul(var, u128::from(k2_q8)) >> 8
+        let d = u128::from(d.unsigned_abs());
+        d * d <= mul(var, u128::from(k2_q8)) >> 8
     }
 
     /// Whether the last `k` ticks are steady on every axis: the tick sums' scatter
@@ -575,20 +580,23 @@ impl Detector {
     /// and their trend `b = sum x s` with `x = 2 i - (k - 1)` within `quiet_sigmas` of its
     /// sd `sqrt(q D k (k^2 - 1) / 3)` (no ramp: a stroke's acceleration rises and falls
     /// smoothly, which the scatter alone sees only when it is large).
+    #[inline(never)]
     fn steady(&self, s: &DriftSettings, k: u32) -> bool {
         (0..3).all(|a| {
-            let (mut sum, mut sum_sq, mut trend) = (0u128, 0u128, 0i128);
+            // k <= 64 ticks of sums below 2^25: every sum below fits u64 / i64.
+            let (mut sum, mut sum_sq, mut trend) = (0u64, 0u64, 0i64);
             for i in 0..u64::from(k) {
                 let v = self.codes[(self.ticks.wrapping_sub(1 + i) % RING as u64) as usize][a];
-                let v2 = u128::from(v);
-                sum += v2;
-                sum_sq += v2 * v2;
+                let v = u64::from(v);
+                sum += v;
+                sum_sq += v * v;
                 // Newest first: x runs from k - 1 down to -(k - 1).
-                trend += (i128::from(k) - 1 - 2 * i128::from(i)) * i128::from(v);
+                trend += (i64::from(k) - 1 - 2 * i as i64) * v as i64;
             }
-            let kk = u128::from(k);
-            let scatter = kk * sum_sq - sum * sum; // < 2^6 * 2^6 * 2^50
+            let kk = u64::from(k);
+            let scatter = u128::from(kk * sum_sq - sum * sum); // < 2^6 * 2^56
             let noise = self.noise[a];
+            let kk = u128::from(kk);
             let bound = mul(
                 mul(
                     u128::from(s.rest_factor_q8),
@@ -597,24 +605,27 @@ impl Detector {
                 u128::from(noise.g0_q32),
             );
             // |trend| < 2^6 * 2^6 * 2^25: its square below 2^74, shifted 2^106.
-            let t2 = trend.unsigned_abs() * trend.unsigned_abs();
+            let t = u128::from(trend.unsigned_abs());
             let t_bound = mul(
                 mul(u128::from(s.quiet_k2_q8), u128::from(noise.q_q32)),
                 u128::from(s.tick) * kk * (kk * kk - 1) / 3,
             ) >> 8;
-            scatter << 40 <= bound && t2 << 32 <= t_bound
+            scatter << 40 <= bound && (t * t) << 32 <= t_bound
         })
     }
 
     /// The means of the last `k` ticks as biases (Q16 counts, rounded).
+    #[inline(never)]
     fn means(&self, s: &DriftSettings, k: u32, bias: [i64; 3]) -> [i64; 3] {
-        let n = i128::from(k) * i128::from(s.tick);
-        core::array::from_fn(|a| {
-            let d = self.offset(s, a, k, bias[a]);
-            bias[a] + ((2 * d + d.signum() * n) / (2 * n)) as i64
-        })
+        let n = i64::from(k) * i64::from(s.tick);
+        let mut out = bias;
+        for (a, b) in out.iter_mut().enumerate() {
+            *b += crate::math::div_round(self.offset(s, a, k, *b), n);
+        }
+        out
     }
 
+    #[inline(never)]
     fn lifted(&self, s: &DriftSettings, bias: [i64; 3]) -> bool {
         let Some(lift) = s.lift_q16 else {
             return false;
@@ -641,10 +652,11 @@ impl Detector {
         }
     }
 
+    #[inline(never)]
     fn still_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
         let mut alarm: Option<u64> = None;
         for (a, &b) in bias.iter().enumerate().take(2) {
-            let d = self.offset(s, a, 1, b) as i64;
+            let d = self.offset(s, a, 1, b);
             let n = self.noise[a];
             for (side, z) in [d, -d].into_iter().enumerate() {
                 let c = &mut self.cusum[a][side];
@@ -679,18 +691,21 @@ impl Detector {
         let Some(max) = s.bias_samples_max else {
             return Action::None;
         };
-        let d_tick = i128::from(s.tick);
         self.bias_samples = (self.bias_samples + u64::from(s.tick)).min(max);
-        let w = i128::from(self.bias_samples);
-        Action::TrackBias(core::array::from_fn(|a| {
-            let d = (i128::from(self.codes[old][a]) << 16) - d_tick * i128::from(bias[a]);
-            bias[a] + ((2 * d + d.signum() * w) / (2 * w)) as i64
-        }))
+        let w = self.bias_samples as i64; // <= 1e6 s * 1e5 Hz < 2^37
+        let mut out = bias;
+        for (b, &c) in out.iter_mut().zip(&self.codes[old]) {
+            // A tick's offset: below 2^41 in Q16 LSB samples.
+            let d = (i64::from(c) << 16) - i64::from(s.tick) * *b;
+            *b += crate::math::div_round(d, w);
+        }
+        Action::TrackBias(out)
     }
 
     /// Learns `q` at rest: the squared offset of each block of `LEARN_TICKS` rest ticks,
     /// per sample, averaged over `LEARN_BLOCKS` blocks. The calibration measured one
     /// second; this follows the sensor as it is, for as long as it rests.
+    #[inline(never)]
     fn learn_noise(&mut self, s: &DriftSettings, tick: usize, bias: [i64; 3]) {
         for (sum, &c) in self.learn_sum.iter_mut().zip(&self.codes[tick]) {
             *sum += u64::from(c);
@@ -702,7 +717,7 @@ impl Detector {
         let n = i128::from(LEARN_TICKS) * i128::from(s.tick);
         for a in 0..3 {
             // Offset in Q16 LSB samples; its square over n is a variance per sample in Q32.
-            let e = (i128::from(self.learn_sum[a]) << 16) - n * i128::from(bias[a]);
+            let e = (i128::from(self.learn_sum[a]) << 16) - n * i128::from(bias[a]); // < 2^59
             let var = (e.unsigned_abs() * e.unsigned_abs() / n as u128).min(u128::from(u64::MAX));
             let q = u128::from(self.noise[a].q_q32);
             let m = u128::from(LEARN_BLOCKS);
@@ -713,6 +728,7 @@ impl Detector {
         self.learn_ticks = 0;
     }
 
+    #[inline(never)]
     fn moving_tick(&mut self, s: &DriftSettings, bias: [i64; 3], velocity: [i64; 3]) -> Action {
         let k = s.quiet_ticks;
         let n = u64::from(k) * u64::from(s.tick);
@@ -723,9 +739,9 @@ impl Detector {
             *peak = (*peak).max(v.unsigned_abs());
         }
         let v_ok = (0..2).all(|a| {
-            let w = i128::from(velocity[a]);
-            // W = 2 V: Var(W) = 4 Var(V); compare (W / 2)^2, i.e. d = W / 2 with k^2.
-            let by_noise = self.explained(a, w / 2, self.motion_samples, s.velocity_k2_q8);
+            // W = 2 V: compare V = W / 2 with its sd.
+            let by_noise =
+                self.explained(a, velocity[a] / 2, self.motion_samples, s.velocity_k2_q8);
             let by_peak = u128::from(velocity[a].unsigned_abs()) << 8
                 <= u128::from(self.peak_w[a]) * u128::from(s.stop_fraction_q8);
             by_noise || by_peak
@@ -762,6 +778,7 @@ impl Detector {
         Action::None
     }
 
+    #[inline(never)]
     fn lifted_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
         let m = s.rest_ticks;
         if self.ticks - self.entered < u64::from(m) || !self.steady(s, m) {
