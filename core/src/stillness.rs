@@ -42,11 +42,15 @@
 //!   averaged over `N_b` samples), or below `stop_fraction` of the motion's peak. Mid-stroke
 //!   the acceleration passes through zero while the hand moves fastest; the velocity test
 //!   keeps the stroke going there. A velocity that no acceleration explains is stopped
-//!   after `coast_s` of quiet (an accelerometer cannot see constant velocity).
+//!   after `coast_s` of quiet over both `quiet_s` and `rest_s` (an accelerometer cannot see
+//!   constant velocity; the longer window sees a slow stroke's small acceleration).
 //! - **Tilt** (Moving): the last `rest_s` are steady on every axis (the tick sums' scatter
-//!   at most `rest_factor` times the calibrated `g0`) but off the bias: a hand cannot keep
-//!   accelerating one way that steadily for that long, so it is a tilt or a bias step. The
-//!   window's means become the biases and the motion stops.
+//!   at most `rest_factor` times the calibrated `g0`, no linear trend) but off the bias: the
+//!   motion is held (the cursor stops) and the window's means remembered. Steady at those
+//!   means for `tilt_s` more, it is a tilt (a hand cannot keep accelerating one way that
+//!   long): the held motion is dropped and the means become the biases. If the
+//!   acceleration changes first, it was the broad peak of a slow stroke: what was held is
+//!   delivered.
 //! - **Lift** (any state but Frozen): a tick's Z offset above `lift_m_s2` plus
 //!   `lift_xy_ratio` times the horizontal offsets (the mounting tilt and cross-axis
 //!   sensitivity put a fraction of a horizontal stroke on Z). Nothing is integrated until
@@ -102,6 +106,9 @@ pub struct Drift {
     pub rest_s: f64,
     /// Steady: the tick sums' scatter at most this multiple of the calibrated one, `1..=1000`.
     pub rest_factor: f64,
+    /// A motion steady at the same offset this long after `rest_s` is a tilt [s],
+    /// `rest_s..=10`. The cursor stops after `rest_s`; the new zero is taken after this.
+    pub tilt_s: f64,
     /// A Z offset that means "lifted" [m/s^2], `> 0` and finite, or `None` for no lift
     /// detection (a two-axis sensor).
     pub lift_m_s2: Option<f64>,
@@ -124,6 +131,8 @@ impl Default for Drift {
     /// - `coast_s` 0.5 s: longer than the quiet middle of any stroke above the noise floor;
     /// - `rest_s` 0.3 s, `rest_factor` 2: a stroke's acceleration changes measurably within
     ///   0.3 s; 2 is 4 sd of the scatter's own noise over 60 ticks;
+    /// - `tilt_s` 1 s: a minimum-jerk stroke of 2 s holds its acceleration within 15 % of
+    ///   its peak for 0.44 s, and changes it by the whole peak within 0.6 s;
     /// - `lift_m_s2` 0.3 m/s^2, `lift_xy_ratio` 1/4: a 1 cm lift in 0.3 s peaks at
     ///   0.64 m/s^2; a quarter of a horizontal stroke's acceleration on Z is a 14 degree
     ///   mounting tilt;
@@ -137,11 +146,12 @@ impl Default for Drift {
             hold_s: 0.012,
             quiet_s: 0.02,
             quiet_sigmas: 3.0,
-            velocity_sigmas: 3.0,
+            velocity_sigmas: 2.0,
             stop_fraction: 0.25,
             coast_s: 0.5,
             rest_s: 0.3,
             rest_factor: 2.0,
+            tilt_s: 1.0,
             lift_m_s2: Some(0.3),
             lift_xy_ratio: 0.25,
             bias_tau_s: Some(2.0),
@@ -172,6 +182,8 @@ pub enum DriftError {
     RestWindow,
     /// `rest_factor` outside `1..=1000`.
     RestFactor,
+    /// `tilt_s` outside `rest_s..=10`.
+    Tilt,
     /// `lift_m_s2` not finite and `> 0` (or above 2^15 LSB), or `lift_xy_ratio` outside
     /// `0..=10`.
     Lift,
@@ -193,6 +205,7 @@ impl fmt::Display for DriftError {
             Self::Coast => "drift.coast_s: must be within quiet_s..=60 s",
             Self::RestWindow => "drift.rest_s: the rest window must hold 4..=64 ticks of 5 ms",
             Self::RestFactor => "drift.rest_factor: must be within 1..=1000",
+            Self::Tilt => "drift.tilt_s: must be within rest_s..=10 s",
             Self::Lift => {
                 "drift.lift_m_s2 / lift_xy_ratio: need a finite threshold > 0 and a ratio in 0..=10"
             }
@@ -215,6 +228,7 @@ pub struct DriftSettings {
     coast_ticks: u32,
     rest_ticks: u32,
     rest_factor_q8: u64,
+    tilt_ticks: u32,
     lift_q16: Option<i64>,
     lift_ratio_q8: i64,
     bias_samples_max: Option<u64>,
@@ -265,6 +279,9 @@ impl Drift {
         if !within(self.rest_factor, 1.0, 1e3) {
             return Err(DriftError::RestFactor);
         }
+        if !within(self.tilt_s, self.rest_s, 10.0) {
+            return Err(DriftError::Tilt);
+        }
         let lift_q16 = match self.lift_m_s2 {
             None => None,
             Some(l) if within(l / m_s2_per_lsb, 1e-6, 32_768.0) => {
@@ -294,6 +311,7 @@ impl Drift {
             coast_ticks: round(self.coast_s / tick_s).max(1) as u32,
             rest_ticks,
             rest_factor_q8: q8(self.rest_factor),
+            tilt_ticks: round(self.tilt_s / tick_s).max(1) as u32,
             lift_q16,
             lift_ratio_q8: q8(self.lift_xy_ratio) as i64,
             bias_samples_max,
@@ -405,7 +423,7 @@ pub struct Detector {
     onset: [[u64; 2]; 2],
     quiet_run: u32,
     /// The tick from which a motion has looked like a tilt (steady, off the bias).
-    suspect: Option<u64>,
+    suspect: Option<(u64, [i64; 3])>,
     motion_samples: u64,
     peak_w: [u64; 2],
     freeze_left: u32,
@@ -566,10 +584,16 @@ impl Detector {
     /// multiple, Q8) of its sd, counting the bias's own uncertainty (`N_b` samples).
     #[inline(never)]
     fn explained(&self, axis: usize, d: i64, n: u64, k2_q8: u64) -> bool {
+        self.explained_against(axis, d, n, k2_q8, self.bias_samples)
+    }
+
+    /// [`Self::explained`] against a reference averaged over `nb` samples.
+    #[inline(never)]
+    fn explained_against(&self, axis: usize, d: i64, n: u64, k2_q8: u64, nb: u64) -> bool {
         let n = u128::from(n);
         let var = mul(
             u128::from(self.noise[axis].q_q32),
-            n + n * n / u128::from(self.bias_samples.max(1)),
+            n + n * n / u128::from(nb.max(1)),
         );
         let d = u128::from(d.unsigned_abs());
         d * d <= mul(var, u128::from(k2_q8)) >> 8
@@ -734,7 +758,16 @@ impl Detector {
         let n = u64::from(k) * u64::from(s.tick);
         let quiet =
             (0..2).all(|a| self.explained(a, self.offset(s, a, k, bias[a]), n, s.quiet_k2_q8));
-        self.quiet_run = if quiet { self.quiet_run + 1 } else { 0 };
+        // The coast clock runs only while the rest_s window is quiet too: its mean sees an
+        // acceleration 4x smaller than the quiet_s window does (a slow stroke's 1 LSB).
+        let m = s
+            .rest_ticks
+            .min((self.ticks - self.entered).max(1) as u32)
+            .max(k);
+        let nm = u64::from(m) * u64::from(s.tick);
+        let calm = quiet
+            && (0..2).all(|a| self.explained(a, self.offset(s, a, m, bias[a]), nm, s.quiet_k2_q8));
+        self.quiet_run = if calm { self.quiet_run + 1 } else { 0 };
         for (peak, v) in self.peak_w.iter_mut().zip(velocity) {
             *peak = (*peak).max(v.unsigned_abs());
         }
@@ -753,27 +786,37 @@ impl Detector {
             self.enter_still();
             return if held { Action::Discard } else { Action::Stop };
         }
-        // A tilt: steady and off the bias for rest_s. Hold the motion from then on; if it
-        // stays so for another rest_s it was never motion: discard it and take the new zero.
-        // If it changes, it was a slow stroke's acceleration: deliver it.
+        // A tilt: steady and off the bias for rest_s. Hold the motion from then on, and
+        // remember the window's means. If the device stays steady at those means for tilt_s
+        // it was never motion: discard it and take them as the new zero. If the acceleration
+        // changes, it was a slow stroke's broad peak: deliver what was held.
         let m = s.rest_ticks;
         let nm = u64::from(m) * u64::from(s.tick);
-        let tilt = self.ticks - self.entered >= u64::from(m)
-            && self.steady(s, m)
-            && (0..2).any(|a| !self.explained(a, self.offset(s, a, m, bias[a]), nm, s.quiet_k2_q8));
-        match (tilt, self.suspect) {
-            (false, _) => self.suspect = None,
-            (true, None) => self.suspect = Some(self.ticks),
-            (true, Some(since)) if self.ticks - since >= u64::from(m) => {
-                let b = self.means(s, m, bias);
-                self.enter_still();
-                self.bias_samples = nm;
-                return Action::Rebias {
-                    bias: b,
-                    discard: true,
-                };
+        let steady = self.ticks - self.entered >= u64::from(m) && self.steady(s, m);
+        match self.suspect {
+            None => {
+                let off = (0..2)
+                    .any(|a| !self.explained(a, self.offset(s, a, m, bias[a]), nm, s.quiet_k2_q8));
+                if steady && off {
+                    self.suspect = Some((self.ticks, self.means(s, m, bias)));
+                }
             }
-            (true, Some(_)) => {}
+            Some((since, tilt)) => {
+                let same = (0..3).all(|a| {
+                    let d = self.offset(s, a, m, tilt[a]);
+                    self.explained_against(a, d, nm, s.quiet_k2_q8, nm)
+                });
+                if !(steady && same) {
+                    self.suspect = None;
+                } else if self.ticks - since >= u64::from(s.tilt_ticks) {
+                    self.enter_still();
+                    self.bias_samples = nm;
+                    return Action::Rebias {
+                        bias: self.means(s, m, bias),
+                        discard: true,
+                    };
+                }
+            }
         }
         Action::None
     }
@@ -856,6 +899,8 @@ mod tests {
             }),
             Err(DriftError::RestFactor)
         );
+        assert_eq!(v(Drift { tilt_s: 0.2, ..d }), Err(DriftError::Tilt));
+        assert_eq!(v(Drift { tilt_s: 11.0, ..d }), Err(DriftError::Tilt));
         assert_eq!(
             v(Drift {
                 lift_m_s2: Some(0.0),

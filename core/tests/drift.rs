@@ -164,7 +164,8 @@ fn a_stroke_that_coasts_in_the_middle_is_not_cut_there() {
 #[test]
 fn a_glide_that_no_acceleration_explains_stops_after_coast_s() {
     // +20 LSB for 0.1 s and never the deceleration (a hand that stops gently, below the
-    // noise): the cursor glides for coast_s and stops, and stays still.
+    // noise): the cursor glides until the rest_s window has left the push behind and then
+    // for coast_s (0.3 + 0.5 s), stops, and stays still.
     let glide = |i: usize| {
         let v = if (3000..3300).contains(&i) {
             2068
@@ -174,19 +175,19 @@ fn a_glide_that_no_acceleration_explains_stops_after_coast_s() {
         [v, 2048, 2048]
     };
     let mut t = tracker(Some(Drift::default()));
-    let a = run(&mut t, 3300 + 1500 + 60, glide); // until just after 0.5 s of quiet
+    let a = run(&mut t, 3300 + 2400 + 60, glide); // until just after 0.8 s of glide
     assert!(t.is_still(), "{:?} {:?}", t.drift_state(), t.counters());
     let b = run(&mut t, 6000, |i| glide(i + 9000));
     assert_eq!(b, [0, 0, 0]);
-    // 0.1 s at 20 LSB (v = 0.0479 m/s) then about 0.5 s of glide: 24 mm + 2.4 mm.
+    // 0.1 s at 20 LSB (v = 0.0479 m/s: 2.4 mm) then 0.8 s of glide (38 mm).
     let lsb = Config::default().m_s2_per_lsb;
     let v = 20.0 * lsb * 0.1;
     let at = |t_glide: f64| (v * 0.05 + v * t_glide) / 0.0254 * 800.0;
     assert!(
-        (a[0] as f64) > at(0.45) && (a[0] as f64) < at(0.56),
+        (a[0] as f64) > at(0.75) && (a[0] as f64) < at(0.86),
         "{a:?} vs {}..{}",
-        at(0.45),
-        at(0.56)
+        at(0.75),
+        at(0.86)
     );
 }
 
