@@ -9,6 +9,7 @@ pub mod hid;
 pub mod montecarlo;
 pub mod mouse;
 pub mod plot;
+pub mod pointing;
 pub mod predict;
 pub mod recording;
 pub mod reference;

@@ -15,7 +15,9 @@
 //!   next stroke's start, against the stroke's;
 //! - latency: from a stroke's start to the first count it moves, and from its end to the
 //!   last count before the next stroke;
-//! - click drag: counts moved from a click's press to 300 ms after its release;
+//! - click drag: counts moved from a click's press to 300 ms after its release, with the
+//!   button edge reaching the tracker [`EDGE_LATE_S`] after the finger (as the firmware's
+//!   debounce delivers it);
 //! - stationary wander: counts moved in a separate scene of the hand at rest.
 
 use imu_core::hid::screen_motion;
@@ -28,6 +30,9 @@ use crate::sim::{self, SimRng};
 const FS: f64 = 3000.0;
 const CPI: f64 = 800.0;
 const G: f64 = 9.806_65;
+/// How late a button edge reaches the tracker [s]: the firmware's 5 ms debounce and its
+/// 1 ms housekeeping period.
+pub const EDGE_LATE_S: f64 = 0.006;
 
 /// One stroke of the hand.
 #[derive(Clone, Copy, Debug)]
@@ -217,7 +222,7 @@ struct Trace {
     moved: Vec<i64>,
 }
 
-fn simulate(drift: Option<Drift>, n: usize, seed: u64, p: Option<&Plan>) -> Trace {
+fn simulate(drift: Option<Drift>, n: usize, seed: u64, p: Option<&Plan>, late: usize) -> Trace {
     let mut rng = sim::rng(seed);
     let mut sensor = Sensor::new(&mut rng);
     let mut t = Tracker::new(&Config {
@@ -233,7 +238,10 @@ fn simulate(drift: Option<Drift>, n: usize, seed: u64, p: Option<&Plan>) -> Trac
     for i in 0..n {
         let (ax, ay) = p.map_or((0.0, 0.0), |p| hand(p, i));
         if let Some(p) = p {
-            if p.clicks.iter().any(|c| c.press == i || c.release == i) {
+            if p.clicks
+                .iter()
+                .any(|c| c.press + late == i || c.release + late == i)
+            {
                 t.button_edge();
             }
         }
@@ -251,10 +259,18 @@ fn simulate(drift: Option<Drift>, n: usize, seed: u64, p: Option<&Plan>) -> Trac
     tr
 }
 
-fn metrics(drift: Option<Drift>, strokes: usize, rest_minutes: f64, seed: u64) -> Metrics {
+/// The desk scene's metrics for `drift`, with button edges `edge_late_s` after the finger.
+pub fn desk(
+    drift: Option<Drift>,
+    strokes: usize,
+    rest_minutes: f64,
+    seed: u64,
+    edge_late_s: f64,
+) -> Metrics {
     let mut rng = sim::rng(seed ^ 0xA11CE);
     let p = plan(strokes, &mut rng);
-    let tr = simulate(drift, p.n, seed, Some(&p));
+    let late = (edge_late_s * FS).round() as usize;
+    let tr = simulate(drift, p.n, seed, Some(&p), late);
     let at = |i: usize| tr.pos[(i / 3).min(tr.pos.len() - 1)];
     let counts_per_m = CPI / 0.0254;
     let (mut len_err, mut dir_err, mut start_lat, mut stop_lat) = (vec![], vec![], vec![], vec![]);
@@ -286,7 +302,7 @@ fn metrics(drift: Option<Drift>, strokes: usize, rest_minutes: f64, seed: u64) -
         })
         .sum();
     let rest_n = (1.0 + rest_minutes * 60.0) as usize * FS as usize;
-    let rest = simulate(drift, rest_n, seed ^ 0x5EA7, None);
+    let rest = simulate(drift, rest_n, seed ^ 0x5EA7, None, 0);
     let s = spread(start_lat);
     let e = spread(stop_lat);
     Metrics {
@@ -309,8 +325,16 @@ fn metrics(drift: Option<Drift>, strokes: usize, rest_minutes: f64, seed: u64) -
 /// Runs the desk scenes with and without drift control.
 pub fn run(strokes: usize, rest_minutes: f64, seed: u64) -> Report {
     let (on, off) = rayon::join(
-        || metrics(Some(Drift::default()), strokes, rest_minutes, seed),
-        || metrics(None, strokes, rest_minutes, seed),
+        || {
+            desk(
+                Some(Drift::default()),
+                strokes,
+                rest_minutes,
+                seed,
+                EDGE_LATE_S,
+            )
+        },
+        || desk(None, strokes, rest_minutes, seed, EDGE_LATE_S),
     );
     Report {
         drift_control: on,
@@ -364,8 +388,9 @@ pub fn table(r: &Report) -> String {
 pub fn path_svg(strokes: usize, seed: u64) -> String {
     let mut rng = sim::rng(seed ^ 0xA11CE);
     let p = plan(strokes, &mut rng);
-    let on = simulate(Some(Drift::default()), p.n, seed, Some(&p));
-    let off = simulate(None, p.n, seed, Some(&p));
+    let late = (EDGE_LATE_S * FS).round() as usize;
+    let on = simulate(Some(Drift::default()), p.n, seed, Some(&p), late);
+    let off = simulate(None, p.n, seed, Some(&p), late);
     let counts_per_m = CPI / 0.0254;
     let mut truth = vec![(0.0, 0.0)];
     let (mut tx, mut ty) = (0.0, 0.0);

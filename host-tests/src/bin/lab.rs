@@ -4,8 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use host_tests::{
-    allan, budget, columns, drift, hid, mouse, plot, predict, recording, reproduce, scene, speed,
-    track,
+    allan, budget, columns, drift, hid, mouse, plot, pointing, predict, recording, reproduce,
+    scene, speed, track,
 };
 
 #[derive(Parser)]
@@ -98,7 +98,10 @@ struct MouseArgs {
     /// Seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Directory for the path plot.
+    /// Smaller pointing scenes (for CI).
+    #[arg(long)]
+    quick: bool,
+    /// Directory for the path plot and the detectability map.
     #[arg(long, default_value = "target/lab/mouse")]
     out: std::path::PathBuf,
     /// Print JSON instead of the table.
@@ -432,14 +435,31 @@ fn run_mouse(a: &MouseArgs) -> Result<String, String> {
     }
     positive("rest-minutes", a.rest_minutes)?;
     let report = mouse::run(a.strokes, a.rest_minutes, a.seed);
+    let sizes = if a.quick {
+        pointing::Sizes::quick(a.rest_minutes)
+    } else {
+        pointing::Sizes::full(a.rest_minutes)
+    };
+    let scenes = pointing::scenes(Some(imu_core::Drift::default()), sizes, a.seed);
     std::fs::create_dir_all(&a.out).map_err(|e| format!("--out {}: {e}", a.out.display()))?;
     let path = a.out.join("path.svg");
     std::fs::write(&path, mouse::path_svg(12, a.seed))
         .map_err(|e| format!("{}: {e}", path.display()))?;
+    let map = a.out.join("map.svg");
+    std::fs::write(&map, pointing::map_svg(&scenes.map))
+        .map_err(|e| format!("{}: {e}", map.display()))?;
     if a.json {
-        serde_json::to_string_pretty(&report).map_err(|e| e.to_string())
+        let mut v = serde_json::to_value(&report).map_err(|e| e.to_string())?;
+        v["scenes"] = serde_json::to_value(&scenes).map_err(|e| e.to_string())?;
+        serde_json::to_string_pretty(&v).map_err(|e| e.to_string())
     } else {
-        Ok(format!("{}plot: {}", mouse::table(&report), path.display()))
+        Ok(format!(
+            "{}\n{}plots: {}, {}",
+            mouse::table(&report),
+            pointing::table(&scenes),
+            path.display(),
+            map.display()
+        ))
     }
 }
 
