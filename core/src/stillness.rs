@@ -26,16 +26,22 @@
 //!   +-- steady for rest_s (new bias if it differs) -- Lifted <-- Z offset (any state)
 //!   +-- click freeze over ---------------------------- Frozen <-- button edge (any state)
 //! ```
-//! - **Start** (Still): a two-sided CUSUM per horizontal axis on the tick means' offset from
-//!   the bias, in units of their long-run sd `sqrt(q / D)`: `S = max(0, S + z - 1/2)`, alarm
-//!   at `S > start_sigmas`. It sees a slow stroke's small acceleration by accumulating it
+//! - **Start** (Still): two-sided CUSUMs per horizontal axis on the tick means' offset from
+//!   the bias, in units of their long-run sd `sqrt(q / D)`: `S = max(0, S + z - kappa)`,
+//!   a slow one (`kappa = 1/2`, alarm at `S > h = start_sigmas`) and a fast one
+//!   (`kappa = 3/2`, alarm at `h / 2`) that a brisk stroke's ramp crosses 3 ms sooner. It sees a slow stroke's small acceleration by accumulating it
 //!   (a 15 mm stroke over 1 s is found about 55 ms in), and it knows where the run began:
 //!   the ticks since `S` was last zero are integrated from zero velocity at once, so the
-//!   stroke's onset is not lost. At rest the expected time to a false alarm is about
-//!   `e^(h + 1.17) / (2 kappa^2)` ticks (Siegmund), 2e7 ticks (28 h) per side for `h = 16`.
+//!   stroke's onset is not lost. Within a tick the alarm is checked on the samples so far
+//!   (`kappa` pro rata): a brisk stroke starts without waiting for the tick's end. At rest the expected time to a false alarm is about
+//!   `e^(2 kappa (h + 1.17)) / (2 kappa^2)` ticks (Siegmund): 2e7 ticks (28 h) per side for
+//!   the slow one at `h = 16`, 2e11 for the fast one.
 //! - **Hold**: a motion younger than `hold_s` (from its onset) is integrated but not yet
 //!   delivered; a button edge inside it discards it. A click's jolt starts before its
-//!   debounced edge is known, and this is what keeps it from dragging the cursor.
+//!   debounced edge is known, and this is what keeps it from dragging the cursor. A jolt is
+//!   a step (one tick crosses the alarm alone), so its hold runs from the alarm: an onset
+//!   that noise placed earlier must not shorten it. A hand's stroke ramps up and is
+//!   delivered from `hold_s` after its onset, which its detection usually passes already.
 //! - **Stop** (Moving): the last `quiet_s` of X and Y have a mean within `quiet_sigmas` of
 //!   the bias, and the velocity is explained: within `velocity_sigmas` of its own
 //!   uncertainty `sd(V)^2 = q n + q n^2 / N_b` (`n` samples since the onset, the bias
@@ -74,9 +80,10 @@ pub const TICK_S: f64 = 0.005;
 pub const RING: usize = 64;
 /// Ticks of filtered sums kept for replaying a motion's onset (200 ms at 5 ms ticks).
 pub const REPLAY: usize = 40;
-/// The CUSUM's reference value `kappa` [sd of a tick mean], Q8: 1/2, the value that makes
-/// it quickest for offsets near one sd.
-const KAPPA_Q8: i64 = 128;
+/// The CUSUMs' reference values `kappa` [sd of a tick mean], Q8: 1/2 for the slow one (the
+/// quickest for offsets near one sd: slow strokes), 3/2 for the fast one (offsets near 3
+/// sd: brisk strokes), whose alarm is half the slow one's.
+const KAPPA_Q8: [i64; 2] = [128, 384];
 
 /// Samples per detector tick at `fs_hz`: `round(fs * TICK_S)`, `1..=2^14`.
 pub fn tick_samples(fs_hz: u32) -> u32 {
@@ -354,10 +361,10 @@ pub enum State {
 pub enum Action {
     /// Nothing.
     None,
-    /// A motion started: integrate the last `ticks` ticks ([`Detector::replay`]) from zero
-    /// velocity, then every sample.
+    /// A motion started: integrate the last `ticks` complete ticks and the current tick's
+    /// samples so far ([`Detector::replay`]) from zero velocity, then every sample.
     Start {
-        /// Ticks to replay, `1..=REPLAY`.
+        /// Complete ticks to replay, `0..=REPLAY`.
         ticks: usize,
     },
     /// The motion ended: zero velocity; what was integrated stays.
@@ -383,9 +390,10 @@ struct Noise {
     q_q32: u64,
     /// Tick-sum variance per sample `g0` [LSB^2, Q32].
     g0_q32: u64,
-    /// `kappa sqrt(q D)` and `h sqrt(q D)`: the CUSUM's drift and alarm [Q16 LSB samples].
-    kappa: i64,
-    alarm: i64,
+    /// `kappa sqrt(q D)` and `h sqrt(q D)` of the slow and the fast CUSUM: their drifts and
+    /// alarms [Q16 LSB samples].
+    kappa: [i64; 2],
+    alarm: [i64; 2],
 }
 
 impl Noise {
@@ -395,8 +403,11 @@ impl Noise {
         Self {
             q_q32,
             g0_q32,
-            kappa: (KAPPA_Q8 * sd) >> 8,
-            alarm: ((i128::from(s.start_q8) * i128::from(sd)) >> 8) as i64,
+            kappa: KAPPA_Q8.map(|k| (k * sd) >> 8),
+            alarm: [
+                ((i128::from(s.start_q8) * i128::from(sd)) >> 8) as i64,
+                ((i128::from(s.start_q8) * i128::from(sd)) >> 9) as i64,
+            ],
         }
     }
 }
@@ -442,12 +453,15 @@ pub struct Detector {
     ticks: u64,
     state: State,
     entered: u64,
-    cusum: [[i64; 2]; 2],
-    onset: [[u64; 2]; 2],
+    /// `[slow, fast][axis X, Y][side +, -]`.
+    cusum: [[[i64; 2]; 2]; 2],
+    onset: [[[u64; 2]; 2]; 2],
     quiet_run: u32,
     /// The tick from which a motion has looked like a tilt (steady, off the bias).
     suspect: Option<(u64, [i64; 3])>,
     motion_samples: u64,
+    /// Samples the new motion is still held for.
+    hold_left: u64,
     peak_w: [u64; 2],
     freeze_left: u32,
     bias_samples: u64,
@@ -484,11 +498,12 @@ impl Detector {
             ticks: 0,
             state: State::Still,
             entered: 0,
-            cusum: [[0; 2]; 2],
-            onset: [[0; 2]; 2],
+            cusum: [[[0; 2]; 2]; 2],
+            onset: [[[0; 2]; 2]; 2],
             quiet_run: 0,
             suspect: None,
             motion_samples: 0,
+            hold_left: 0,
             peak_w: [0; 2],
             freeze_left: 0,
             bias_samples: u64::from(cal[0].samples),
@@ -510,22 +525,24 @@ impl Detector {
 
     /// Whether a motion is held back from delivery: younger than `hold_s`, or looking like
     /// a tilt (steady and off the bias for `rest_s`) and not yet confirmed or refuted.
-    pub const fn holds(&self, s: &DriftSettings) -> bool {
-        matches!(self.state, State::Moving)
-            && (self.motion_samples < s.hold || self.suspect.is_some())
+    pub const fn holds(&self) -> bool {
+        matches!(self.state, State::Moving) && (self.hold_left > 0 || self.suspect.is_some())
     }
 
-    /// The filtered sums of the last `ticks` ticks (`<= REPLAY`), oldest first.
+    /// The filtered sums of the last `ticks` complete ticks (`<= REPLAY`), oldest first,
+    /// then those of the current tick so far (if it has samples).
     pub fn replay(&self, ticks: usize) -> impl Iterator<Item = &[BlockSums; 3]> + '_ {
         let first = self.ticks - ticks.min(REPLAY) as u64;
-        (first..self.ticks).map(move |i| &self.sums[(i % REPLAY as u64) as usize])
+        (first..self.ticks)
+            .map(move |i| &self.sums[(i % REPLAY as u64) as usize])
+            .chain((self.cur_n > 0).then_some(&self.cur_sums))
     }
 
     /// A button changed state: the held motion (if any) is discarded, a delivered one
     /// stops, and nothing is integrated for the click freeze.
     pub fn click(&mut self, s: &DriftSettings) -> Action {
         let action = match self.state {
-            State::Moving if self.holds(s) => Action::Discard,
+            State::Moving if self.holds() => Action::Discard,
             State::Moving => Action::Stop,
             _ => Action::None,
         };
@@ -556,7 +573,10 @@ impl Detector {
         self.cur_n += 1;
         let mut action = Action::None;
         match self.state {
-            State::Moving => self.motion_samples += 1,
+            State::Moving => {
+                self.motion_samples += 1;
+                self.hold_left = self.hold_left.saturating_sub(1);
+            }
             State::Frozen => {
                 self.freeze_left = self.freeze_left.saturating_sub(1);
                 if self.freeze_left == 0 {
@@ -567,6 +587,9 @@ impl Detector {
             State::Still | State::Lifted => {}
         }
         if self.cur_n < s.tick {
+            if self.state == State::Still {
+                return self.early_alarm(s, bias);
+            }
             return action;
         }
         let slot = (self.ticks % RING as u64) as usize;
@@ -586,8 +609,8 @@ impl Detector {
         self.learn_ticks = 0;
         self.suspect = None;
         self.entered = self.ticks;
-        self.cusum = [[0; 2]; 2];
-        self.onset = [[self.ticks; 2]; 2];
+        self.cusum = [[[0; 2]; 2]; 2];
+        self.onset = [[[self.ticks; 2]; 2]; 2];
     }
 
     /// Offset of the last `k` ticks' code sum on `axis` from the bias [Q16 LSB samples].
@@ -688,7 +711,7 @@ impl Detector {
     /// Decisions at the end of a tick.
     fn tick(&mut self, s: &DriftSettings, bias: [i64; 3], velocity: [i64; 3]) -> Action {
         if matches!(self.state, State::Still | State::Moving) && self.lifted(s, bias) {
-            let held = self.holds(s);
+            let held = self.holds();
             self.state = State::Lifted;
             self.entered = self.ticks;
             return if held { Action::Discard } else { Action::Stop };
@@ -701,34 +724,77 @@ impl Detector {
         }
     }
 
+    /// The CUSUM checked within a tick, on the samples of it so far (`kappa` pro rata), so
+    /// that a brisk start is not kept waiting for the tick's end.
+    #[inline(never)]
+    fn early_alarm(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        let n = i64::from(self.cur_n);
+        let mut alarm: Option<u64> = None;
+        let mut step = false;
+        for (a, &b) in bias.iter().enumerate().take(2) {
+            // Below 2^14 codes of 16 bits: 2^46, and n bias < 2^46.
+            let d = (i64::from(self.cur_codes[a]) << 16) - n * b;
+            let noise = self.noise[a];
+            for (c, (cusum, onset)) in self.cusum.iter().zip(&self.onset).enumerate() {
+                let kappa = noise.kappa[c] * n / i64::from(s.tick);
+                for (side, z) in [d, -d].into_iter().enumerate() {
+                    let sum = cusum[a][side];
+                    if sum + z - kappa > noise.alarm[c] {
+                        let on = if sum == 0 { self.ticks } else { onset[a][side] };
+                        alarm = Some(alarm.map_or(on, |o| o.min(on)));
+                        step |= z - kappa > noise.alarm[0] / 2;
+                    }
+                }
+            }
+        }
+        alarm.map_or(Action::None, |onset| self.start(s, onset, step))
+    }
+
+    /// A motion starts: replay the complete ticks since `onset` (at most `REPLAY`) and the
+    /// current tick's samples so far. It is held until `hold_s` after its onset; after a
+    /// `step` (one tick alone crossed the alarm: a jolt, not a hand's ramp) until `hold_s`
+    /// after now, since a jolt began at most a tick ago whatever the onset says.
+    fn start(&mut self, s: &DriftSettings, onset: u64, step: bool) -> Action {
+        let ticks = (self.ticks - onset).min(REPLAY as u64);
+        self.state = State::Moving;
+        self.entered = self.ticks;
+        self.motion_samples = ticks * u64::from(s.tick) + u64::from(self.cur_n);
+        self.hold_left = if step {
+            s.hold
+        } else {
+            s.hold.saturating_sub(self.motion_samples)
+        };
+        self.peak_w = [0; 2];
+        self.quiet_run = 0;
+        self.suspect = None;
+        Action::Start {
+            ticks: ticks as usize,
+        }
+    }
+
     #[inline(never)]
     fn still_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
         let mut alarm: Option<u64> = None;
+        let mut step = false;
         for (a, &b) in bias.iter().enumerate().take(2) {
             let d = self.offset(s, a, 1, b);
             let n = self.noise[a];
-            for (side, z) in [d, -d].into_iter().enumerate() {
-                let c = &mut self.cusum[a][side];
-                *c = (*c + z - n.kappa).max(0);
-                if *c == 0 {
-                    self.onset[a][side] = self.ticks;
-                } else if *c > n.alarm {
-                    let on = self.onset[a][side];
-                    alarm = Some(alarm.map_or(on, |o| o.min(on)));
+            for c in 0..2 {
+                for (side, z) in [d, -d].into_iter().enumerate() {
+                    let sum = &mut self.cusum[c][a][side];
+                    *sum = (*sum + z - n.kappa[c]).max(0);
+                    if *sum == 0 {
+                        self.onset[c][a][side] = self.ticks;
+                    } else if *sum > n.alarm[c] {
+                        let on = self.onset[c][a][side];
+                        alarm = Some(alarm.map_or(on, |o| o.min(on)));
+                        step |= z - n.kappa[c] > n.alarm[0] / 2;
+                    }
                 }
             }
         }
         if let Some(onset) = alarm {
-            let ticks = (self.ticks - onset).clamp(1, REPLAY as u64);
-            self.state = State::Moving;
-            self.entered = self.ticks;
-            self.motion_samples = ticks * u64::from(s.tick);
-            self.peak_w = [0; 2];
-            self.quiet_run = 0;
-            self.suspect = None;
-            return Action::Start {
-                ticks: ticks as usize,
-            };
+            return self.start(s, onset, step);
         }
         // The tick REPLAY ticks old, once the device has been still all the time since: the
         // ticks a motion's onset could still claim are not averaged in.
@@ -807,7 +873,7 @@ impl Detector {
         if quiet && (v_ok || self.quiet_run >= s.coast_ticks) {
             // A motion that ends younger than the hold was a jolt, not a stroke; a tilt
             // suspicion that ends in a stop was refuted: deliver.
-            let held = self.motion_samples < s.hold;
+            let held = self.hold_left > 0;
             self.enter_still();
             return if held { Action::Discard } else { Action::Stop };
         }

@@ -298,10 +298,8 @@ impl Tracker {
     /// carried. Zeros while calibrating, and while drift control holds a new motion back
     /// (younger than its hold; the counts follow once it is older).
     pub fn take_counts(&mut self) -> [i32; AXES] {
-        if let (Some(ds), Some(det)) = (self.settings.drift(), &self.detector) {
-            if det.holds(ds) {
-                return [0; AXES];
-            }
+        if self.detector.as_ref().is_some_and(Detector::holds) {
+            return [0; AXES];
         }
         let settings = &self.settings;
         self.axes.each_mut().map(|axis| axis.take_counts(settings))

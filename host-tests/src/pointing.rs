@@ -696,8 +696,8 @@ pub fn map_svg(m: &Map) -> String {
     }
     let floor: Vec<String> = (0..=60)
         .map(|k| {
-            let t =
-                m.durations_s[0] * (m.durations_s[nd - 1] / m.durations_s[0]).powf(f64::from(k) / 60.0);
+            let t = m.durations_s[0]
+                * (m.durations_s[nd - 1] / m.durations_s[0]).powf(f64::from(k) / 60.0);
             (t, 3.0 * floor_m(t))
         })
         .filter(|&(_, d)| d >= m.lengths_m[0] && d <= m.lengths_m[nl - 1])
