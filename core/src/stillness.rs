@@ -130,8 +130,9 @@ pub struct Drift {
 impl Default for Drift {
     /// The defaults, each with its reason:
     /// - `start_sigmas` 16: a false start less than once in 28 h per axis and side at rest;
-    /// - `hold_s` 12 ms: the firmware's 5 ms debounce on 1 ms (2 ms until the housekeeping
-    ///   period is fixed) polls, with room;
+    /// - `hold_s` 16 ms: a button edge 10 ms after the finger (the firmware's 5 ms debounce
+    ///   counted in 2 ms housekeeping periods, until issue 11 fixes them to 1 ms), plus the
+    ///   5 ms tick within which the onset of a click's jolt is placed;
     /// - `quiet_s` 20 ms, `quiet_sigmas` 3: stops within about 20 ms of a stroke's end;
     /// - `velocity_sigmas` 3, `stop_fraction` 1/4: a min-jerk stroke's velocity is above
     ///   1/4 of its peak until the last 13 % of it, where its deceleration is still large;
@@ -150,7 +151,7 @@ impl Default for Drift {
     fn default() -> Self {
         Self {
             start_sigmas: 16.0,
-            hold_s: 0.012,
+            hold_s: 0.016,
             quiet_s: 0.02,
             quiet_sigmas: 3.0,
             velocity_sigmas: 2.0,
@@ -1036,7 +1037,7 @@ mod tests {
         assert_eq!(s.tick_samples(), 15);
         assert_eq!((s.quiet_ticks, s.rest_ticks, s.coast_ticks), (4, 60, 100));
         assert_eq!(s.freeze_samples(), 450);
-        assert_eq!(s.hold_samples(), 36);
+        assert_eq!(s.hold_samples(), 48);
         assert!(v(Drift {
             lift_m_s2: None,
             ..d

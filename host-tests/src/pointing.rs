@@ -284,6 +284,18 @@ pub fn strokes(drift: Option<Drift>, n: usize, seed: u64) -> Strokes {
     }
 }
 
+/// `n` strokes of `d` [m] over `t` [s] in `n` evenly spread directions.
+pub fn strokes_of(drift: Option<Drift>, d: f64, t: f64, n: usize, seed: u64) -> Vec<StrokeResult> {
+    let device = calibrated(drift, seed);
+    (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let dir = std::f64::consts::TAU * k as f64 / n as f64;
+            stroke(&device, seed.wrapping_mul(1000) + k as u64, d, t, dir)
+        })
+        .collect()
+}
+
 /// Target 2: circles and figure eights without a rest.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Continuous {
