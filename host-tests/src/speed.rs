@@ -22,7 +22,7 @@ use std::time::Instant;
 use dsp_process::SplitProcess;
 use imu_core::kernels::{
     self, Baseline, F32Stage, IntegratorStage, Kernel, LowpassStage, NarrowStage, PipelineAxis,
-    ReadoutStage,
+    ReadoutStage, TrackerDrift,
 };
 use imu_core::testsignal::{Checksum, Trace};
 use imu_core::variants::{F32Pipeline, NarrowPipeline};
@@ -97,6 +97,7 @@ pub fn kernels() -> Vec<(&'static str, Box<dyn Kernel>)> {
         ("readout", Box::new(ReadoutStage::default())),
         ("f32_pipeline", Box::new(F32Stage::default())),
         ("narrow_pipeline", Box::new(NarrowStage::default())),
+        ("tracker_drift", Box::new(TrackerDrift::default())),
     ]
 }
 
@@ -113,7 +114,7 @@ pub fn host_checksums() -> Vec<(&'static str, u64)> {
         .into_iter()
         .map(|(name, mut k)| {
             let mut sum = Checksum::default();
-            for b in codes.chunks_exact(BLOCK) {
+            for b in codes.chunks_exact(BLOCK.min(k.max_block())) {
                 k.run(b, &mut sum);
             }
             (name, sum.0)

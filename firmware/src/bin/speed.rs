@@ -22,7 +22,7 @@ use cortex_m_semihosting::{debug, hprintln};
 use dsp_process::SplitProcess;
 use imu_core::kernels::{
     self, Baseline, F32Stage, IntegratorStage, Kernel, LowpassStage, NarrowStage, PipelineAxis,
-    ReadoutStage,
+    ReadoutStage, TrackerDrift,
 };
 use imu_core::testsignal::{Checksum, Trace};
 use imu_core::Scheme;
@@ -76,7 +76,8 @@ macro_rules! rep10 {
 fn time_kernel(name: &str, kernel: &mut dyn Kernel, codes: &[u16]) {
     let mut sum = Checksum::default();
     let (mut ticks, mut cycles): (u64, u64) = (0, 0);
-    for block in codes.chunks_exact(BLOCK) {
+    let block_len = BLOCK.min(kernel.max_block());
+    for block in codes.chunks_exact(block_len) {
         let c0 = DWT::cycle_count();
         let start = SYST::get_current();
         kernel.run(block, &mut sum);
@@ -87,7 +88,7 @@ fn time_kernel(name: &str, kernel: &mut dyn Kernel, codes: &[u16]) {
         "kernel {} {} {} {} {:016x} {}",
         name,
         codes.len(),
-        codes.len() / BLOCK,
+        codes.len() / block_len,
         ticks,
         sum.0,
         cycles
@@ -161,6 +162,7 @@ fn main() -> ! {
     time_kernel("readout", &mut ReadoutStage::default(), &codes);
     time_kernel("f32_pipeline", &mut F32Stage::default(), &codes);
     time_kernel("narrow_pipeline", &mut NarrowStage::default(), &codes);
+    time_kernel("tracker_drift", &mut TrackerDrift::default(), &codes);
     hprintln!("done");
     debug::exit(debug::EXIT_SUCCESS);
     halt()
