@@ -55,8 +55,8 @@
 //!   motion is held (the cursor stops) and the window's means remembered. Steady at those
 //!   means for `tilt_s` more, it is a tilt (a hand cannot keep accelerating one way that
 //!   long): the held motion is dropped and the means become the biases. If the
-//!   acceleration changes first, it was the broad peak of a slow stroke: what was held is
-//!   delivered.
+//!   acceleration changes first (after the first `rest_s`, in which a tilt may still
+//!   settle), it was the broad peak of a slow stroke: what was held is delivered.
 //! - **Lift** (any state but Frozen): a tick's Z offset above `lift_m_s2` plus
 //!   `lift_xy_ratio` times the horizontal offsets (the mounting tilt and cross-axis
 //!   sensitivity put a fraction of a horizontal stroke on Z). Nothing is integrated until
@@ -433,6 +433,13 @@ impl Slack {
     const KEEP: Self = Self {
         scatter_q8: 384,
         k2_q8: 711, // (5/3)^2 * 256
+    };
+    /// A settled tilt's offset moving on (7 sd): a window 0.3 s after another is not
+    /// independent of the anchor's re-anchoring history, and a release drops the whole held
+    /// runaway on the cursor at once; a slow stroke's acceleration moves by its peak.
+    const MOVED: Self = Self {
+        scatter_q8: 384,
+        k2_q8: 1394, // (7/3)^2 * 256
     };
 }
 
@@ -901,17 +908,23 @@ impl Detector {
                 }
             }
             Some((since, tilt)) => {
-                let same = (0..3).all(|a| {
-                    let d = self.offset(s, a, m, tilt[a]);
-                    let k2 = ((u128::from(s.quiet_k2_q8) * Slack::KEEP.k2_q8) >> 8) as u64;
-                    self.explained_against(a, d, nm, k2, nm)
-                });
+                let settling = self.ticks - since < 2 * u64::from(m);
+                let same = |slack: Slack| {
+                    (0..3).all(|a| {
+                        let d = self.offset(s, a, m, tilt[a]);
+                        let k2 = ((u128::from(s.quiet_k2_q8) * slack.k2_q8) >> 8) as u64;
+                        self.explained_against(a, d, nm, k2, nm)
+                    })
+                };
                 if !steady {
                     self.suspect = None;
-                } else if !same {
-                    // Steady at another offset: the tilt settled further (or the bias
-                    // walked). Keep holding, against the new means.
+                } else if settling && !same(Slack::KEEP) {
+                    // Steady at another offset within 2 rest_s of the suspicion: the tilt was
+                    // still settling. Keep holding, against the new means.
                     self.suspect = Some((since, self.means(s, m, bias)));
+                } else if !settling && !same(Slack::MOVED) {
+                    // Later, a changed offset is a slow stroke's acceleration moving on.
+                    self.suspect = None;
                 } else if self.ticks - since >= u64::from(s.tilt_ticks) {
                     self.enter_still();
                     self.bias_samples = nm;
