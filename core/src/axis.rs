@@ -97,6 +97,12 @@ impl Axis {
             .step_block(&mut self.integrator, b, self.bias_q16);
     }
 
+    /// Primes the trapezoid with the filtered sample `y` (Q16 counts) before the next one,
+    /// as if it had been integrated; the Euler scheme ignores it.
+    pub fn prime(&mut self, y: i64) {
+        self.integrator.prime(y - self.bias_q16);
+    }
+
     /// Zero-velocity update (see [`IntegratorState::zero_velocity`]).
     pub fn zero_velocity(&mut self) {
         self.integrator.zero_velocity();

@@ -72,6 +72,13 @@ impl IntegratorState {
         self.primed = false;
     }
 
+    /// Primes the trapezoid with the sample `c` (Q16 counts) before the next: the next
+    /// sample's step uses it as `c[n-1]`. Velocity and position are kept.
+    pub fn prime(&mut self, c: i64) {
+        self.prev = c;
+        self.primed = true;
+    }
+
     /// Stops the motion: zero velocity and position, and the trapezoid waits for a new first
     /// sample.
     pub fn reset(&mut self) {

@@ -221,9 +221,14 @@ impl Tracker {
             Action::Start { ticks } => {
                 self.counters.motions += 1;
                 self.axes.iter_mut().for_each(Axis::zero_velocity);
-                if let Some(det) = &self.detector {
-                    for sums in det.replay(ticks) {
-                        for (axis, b) in self.axes.iter_mut().zip(sums) {
+                if let (Some(det), Some(ds)) = (&self.detector, s.drift()) {
+                    if let Some(prev) = det.replay_prev(ticks) {
+                        for (axis, y) in self.axes.iter_mut().zip(prev) {
+                            axis.prime(y);
+                        }
+                    }
+                    for sums in det.replay(ds, ticks) {
+                        for (axis, b) in self.axes.iter_mut().zip(&sums) {
                             axis.integrate_block(&s, b);
                         }
                     }

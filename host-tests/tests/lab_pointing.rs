@@ -14,14 +14,14 @@ fn on() -> Option<Drift> {
 
 #[test]
 fn slow_and_small_strokes_arrive_near_the_noise_floor() {
-    // 80 strokes of 5 mm-30 cm over 0.2-2 s. The full run (200 strokes) has 90 % within
-    // max(5 %, 3 floor). For 80 strokes of a 90 % process the fraction has sd 3.4 %; 3 sd
-    // below is 80 %. The error in units of the noise floor is the sharper check: a 2-D
-    // error with the floor's sd per axis has a median of 1.18 floors (Rayleigh); the bias
-    // estimate and the onset add to it, and 2 floors is what the full run stays under
-    // (1.24).
+    // 80 strokes of 5 mm-30 cm over 0.2-2 s. The full run (200 strokes) has 93 % within
+    // max(5 %, 3 floor). For 80 strokes of a 93 % process the fraction has sd 2.9 %; 3.3 sd
+    // (0.1 %) below is 83.5 %. The error in units of the noise floor is the sharper check:
+    // a 2-D error with the floor's sd per axis has a median of 1.18 floors (Rayleigh); the
+    // bias estimate and the onset add to it, and 2 floors is what the full run stays under
+    // (1.20).
     let s = pointing::strokes(on(), 80, 3);
-    assert!(s.within >= 0.80, "{:.3} within", s.within);
+    assert!(s.within >= 0.835, "{:.3} within", s.within);
     assert!(s.error_over_floor.median <= 2.0, "{:?}", s.error_over_floor);
     // Control: a stop that takes any velocity for zero (the old detector's rule) cuts slow
     // strokes in the middle.
@@ -31,7 +31,7 @@ fn slow_and_small_strokes_arrive_near_the_noise_floor() {
     };
     let c = pointing::strokes(Some(blind), 80, 3);
     assert!(
-        c.within < 0.80 || c.error_over_floor.median > 2.0,
+        c.within < 0.835 || c.error_over_floor.median > 2.0,
         "control passed: {:.3} within, {:?}",
         c.within,
         c.error_over_floor
