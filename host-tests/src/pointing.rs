@@ -732,13 +732,14 @@ pub fn map_svg(m: &Map) -> String {
         );
     }
     format!(
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="700" height="540" viewBox="0 0 700 540" font-family="sans-serif" font-size="11">
-<rect width="700" height="540" fill="white"/>
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="700" height="545" viewBox="0 0 700 545" font-family="sans-serif" font-size="11">
+<rect width="700" height="545" fill="white"/>
 <text x="360" y="24" text-anchor="middle" font-size="15" font-weight="bold">Which strokes the mouse carries: median vector error [% of length]</text>
 {cells}<polyline points="{}" fill="none" stroke="black" stroke-width="2" stroke-dasharray="6,3"/>
 {axes}<text x="360" y="{:.0}" text-anchor="middle">stroke duration T [s]</text>
 <text x="20" y="{:.0}" text-anchor="middle" transform="rotate(-90 20 {:.0})">stroke length D [mm]</text>
-<text x="80" y="525">green &lt;= 5 %, olive &lt;= 20 %, orange &lt;= 50 %, red &gt; 50 %; dashed: D = 3 ND T^1.5 / sqrt 6 (below it the sensor's noise is larger)</text>
+<text x="80" y="520">median of the strokes in a cell; green &lt;= 5 %, olive &lt;= 20 %, orange &lt;= 50 %, red &gt; 50 %</text>
+<text x="80" y="535">dashed: D = 3 ND T^1.5 / sqrt 6, three noise floors (ADXL335): below it the sensor's noise is larger</text>
 </svg>
 "##,
         floor.join(" "),
