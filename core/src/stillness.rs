@@ -611,17 +611,16 @@ impl Detector {
             self.cur_sums[a].push(y[a]);
         }
         self.cur_n += 1;
-        let mut action = Action::None;
         match self.state {
             State::Moving => {
                 self.motion_samples += 1;
                 self.hold_left = self.hold_left.saturating_sub(1);
             }
             State::Frozen => {
+                // The click stopped the motion and nothing was integrated since.
                 self.freeze_left = self.freeze_left.saturating_sub(1);
                 if self.freeze_left == 0 {
                     self.enter_still();
-                    action = Action::Stop;
                 }
             }
             State::Still | State::Lifted => {}
@@ -630,7 +629,7 @@ impl Detector {
             if self.state == State::Still {
                 return self.early_alarm(s, bias);
             }
-            return action;
+            return Action::None;
         }
         let slot = (self.ticks % RING as u64) as usize;
         self.codes[slot] = core::mem::take(&mut self.cur_codes);
@@ -642,10 +641,7 @@ impl Detector {
             });
         self.cur_n = 0;
         self.ticks += 1;
-        match action {
-            Action::None => self.tick(s, bias, velocity),
-            other => other,
-        }
+        self.tick(s, bias, velocity)
     }
 
     fn enter_still(&mut self) {

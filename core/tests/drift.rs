@@ -372,3 +372,39 @@ fn the_trapezoid_replays_a_stroke_as_it_integrates_it() {
     // 1 LSB (0.0239 m/s^2) for 0.3 s each way: a t1^2 = 2.15 mm = 68 counts.
     assert!((p[0] - 68).abs() <= 1, "{p:?}");
 }
+
+#[test]
+fn velocity_is_zero_whenever_drift_control_is_not_integrating() {
+    // The invariant every stop keeps (end of a stroke, a click, a lift, a tilt, the end of a
+    // freeze): outside a motion the velocity is zero, so nothing can creep and every
+    // motion starts from rest. Strokes, a click in the middle of one, a tilt, a lift.
+    let scene = |i: usize, n: &mut Noise| {
+        let t = i as f64 / 3000.0;
+        let x = match t {
+            t if (1.0..1.1).contains(&t) => 2068,
+            t if (1.1..1.2).contains(&t) => 2028,
+            t if (2.0..2.2).contains(&t) => 2060,
+            t if (2.2..2.4).contains(&t) => 2036,
+            t if (3.0..6.0).contains(&t) => 2062, // a tilt
+            _ => 2048,
+        };
+        let z = if (7.0..7.3).contains(&t) { 2110 } else { 2048 }; // a lift
+        [n.code(x), n.code(2048), n.code(z)]
+    };
+    let mut t = tracker(Some(Drift::default()));
+    let mut n = Noise(Trace::new(11));
+    for i in 0..9 * 3000 {
+        if i == 6300 {
+            t.button_edge(); // in the middle of the second stroke
+        }
+        t.feed(&[scene(i, &mut n)]);
+        t.take_counts();
+        if t.drift_state() != Some(imu_core::DriftState::Moving) {
+            for a in t.axes() {
+                assert_eq!(a.integrator().velocity(), 0, "sample {i}: {:?}", t.drift_state());
+            }
+        }
+    }
+    let c = t.counters();
+    assert!(c.motions >= 2 && c.lifts >= 1 && c.rebiases >= 1, "{c:?}");
+}
