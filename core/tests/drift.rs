@@ -401,10 +401,80 @@ fn velocity_is_zero_whenever_drift_control_is_not_integrating() {
         t.take_counts();
         if t.drift_state() != Some(imu_core::DriftState::Moving) {
             for a in t.axes() {
-                assert_eq!(a.integrator().velocity(), 0, "sample {i}: {:?}", t.drift_state());
+                assert_eq!(
+                    a.integrator().velocity(),
+                    0,
+                    "sample {i}: {:?}",
+                    t.drift_state()
+                );
             }
         }
     }
     let c = t.counters();
     assert!(c.motions >= 2 && c.lifts >= 1 && c.rebiases >= 1, "{c:?}");
+}
+
+#[test]
+fn a_stroke_that_leaves_a_tenth_of_its_speed_stops_at_its_end() {
+    // +20 LSB for 0.1 s, -18 LSB for 0.1 s: a tenth of the peak velocity is left (a scale
+    // error, a tilt while moving), far above the noise. Below a quarter of the peak it
+    // counts as zero: the cursor stops at the stroke's end. Control: without that rule it
+    // glides on for coast_s.
+    let stroke = |i: usize| {
+        let v = match i {
+            3000..=3299 => 2068,
+            3300..=3599 => 2030,
+            _ => 2048,
+        };
+        [v, 2048, 2048]
+    };
+    let lsb = Config::default().m_s2_per_lsb;
+    // The stroke's own displacement [LSB s^2]: 20 * 0.1^2 / 2 in the push, then
+    // 2 * 0.1 - 18 * 0.1^2 / 2 in the pull: 0.21.
+    let stroke_counts = 0.21 * lsb / 0.0254 * 800.0;
+    for (fraction, glides) in [(0.25, false), (0.0, true)] {
+        let mut t = tracker(Some(Drift {
+            stop_fraction: fraction,
+            ..Drift::default()
+        }));
+        let a = run(&mut t, 9000, stroke);
+        // The velocity left, 2 LSB * 0.1 s = 4.8 mm/s, over 0.5 s of glide: 2.4 mm = 75
+        // counts; stopping at the end leaves at most the 20 ms of the stop test (3 counts).
+        let extra = a[0] as f64 - stroke_counts;
+        assert_eq!(
+            extra > 40.0,
+            glides,
+            "stop_fraction {fraction}: {a:?} vs {stroke_counts}"
+        );
+    }
+}
+
+#[test]
+fn a_brisk_stroke_that_a_tilted_mount_puts_on_z_is_not_a_lift() {
+    // The sensor sits 10 degrees off level in the case: a sixth of X's acceleration shows on
+    // Z. A brisk stroke of 100 LSB (2.4 m/s^2) puts 17 LSB on Z, above the lift threshold
+    // (12.5 LSB) alone; the horizontal share (lift_xy_ratio) keeps it a stroke. Control:
+    // with the ratio 0 it is taken for a lift and not tracked.
+    let stroke = |i: usize| {
+        let x: i32 = match i {
+            3000..=3149 => 100,
+            3150..=3299 => -100,
+            _ => 0,
+        };
+        [(2048 + x) as u16, 2048, (2048 + x / 6) as u16]
+    };
+    let lsb = Config::default().m_s2_per_lsb;
+    let want = 100.0 * lsb * 0.05 * 0.05 / 0.0254 * 800.0; // a t1^2: 189 counts
+    for (ratio, tracked) in [(0.25, true), (0.0, false)] {
+        let mut t = tracker(Some(Drift {
+            lift_xy_ratio: ratio,
+            ..Drift::default()
+        }));
+        let a = run(&mut t, 9000, stroke);
+        assert_eq!(
+            (a[0] as f64 - want).abs() < 10.0,
+            tracked,
+            "ratio {ratio}: {a:?} vs {want}"
+        );
+    }
 }
