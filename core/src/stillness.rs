@@ -538,11 +538,6 @@ impl Detector {
         self.state
     }
 
-    /// Whether the current sample is to be integrated (a motion is under way).
-    pub const fn integrating(&self) -> bool {
-        matches!(self.state, State::Moving)
-    }
-
     /// Whether a motion is held back from delivery: younger than `hold_s`, or looking like
     /// a tilt (steady and off the bias for `rest_s`) and not yet confirmed or refuted.
     pub const fn holds(&self) -> bool {
@@ -575,7 +570,9 @@ impl Detector {
     /// counts), to prime a trapezoid replay; `None` if there is no such tick.
     pub fn replay_prev(&self, ticks: usize) -> Option<[i64; 3]> {
         let i = self.ticks.checked_sub(ticks as u64 + 1)?;
-        (ticks < REPLAY - 1).then(|| self.sums[(i % REPLAY as u64) as usize].map(|t| t.last))
+        // The ring holds the last REPLAY ticks: a replay of at most REPLAY - 1 (the cap in
+        // `start`) leaves its predecessor in it.
+        (ticks < REPLAY).then(|| self.sums[(i % REPLAY as u64) as usize].map(|t| t.last))
     }
 
     /// A button changed state: the held motion (if any) is discarded, a delivered one
