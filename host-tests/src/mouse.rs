@@ -118,15 +118,17 @@ fn hand(p: &Plan, i: usize) -> (f64, f64) {
     (ax, ay)
 }
 
-/// The sensor's noise and drift on three axes.
-struct Sensor {
+/// The sensor on three axes: ADXL335 noise through its 50 Hz pole, a 20 ug/sqrt(s) bias
+/// walk, a 12-bit ADC at 3 kHz. The pointing scenes use it too, with gravity.
+#[derive(Clone)]
+pub(crate) struct Sensor {
     ar: [sim::Ar1; 3],
     walk: [f64; 3],
     walk_sd: f64,
 }
 
 impl Sensor {
-    fn new(rng: &mut SimRng) -> Self {
+    pub(crate) fn new(rng: &mut SimRng) -> Self {
         let alpha = std::f64::consts::TAU * 50.0 / FS;
         let sigma_c = 300e-6 * G;
         let r0 = sigma_c * sigma_c * std::f64::consts::PI * 50.0 / 2.0;
@@ -137,11 +139,14 @@ impl Sensor {
         }
     }
 
-    fn codes(&mut self, a: [f64; 3], rng: &mut SimRng) -> [u16; 3] {
+    /// Codes for a hand acceleration `a` and the gravity `g` the sensor reads [m/s^2]
+    /// (sensor frame; the desk scene has none, the pointing scenes tilt it).
+    pub(crate) fn codes(&mut self, a: [f64; 3], g: [f64; 3], rng: &mut SimRng) -> [u16; 3] {
         let adc = sim::Adc { bits: 12 };
         core::array::from_fn(|k| {
             self.walk[k] += self.walk_sd * sim::normal(rng);
-            adc.code(2048.0 + (a[k] + self.ar[k].next(rng) + self.walk[k]) / ADXL335_LSB)
+            let x = a[k] + g[k] + self.ar[k].next(rng) + self.walk[k];
+            adc.code(2048.0 + x / ADXL335_LSB)
         })
     }
 }
@@ -246,7 +251,7 @@ fn simulate(drift: Option<Drift>, n: usize, seed: u64, p: Option<&Plan>, late: u
             }
         }
         // Sensor y points away from the user: screen_motion maps it to cursor up.
-        let codes = sensor.codes([ax, ay, 0.0], &mut rng);
+        let codes = sensor.codes([ax, ay, 0.0], [0.0; 3], &mut rng);
         t.feed(&[codes]);
         if i % 3 == 2 {
             let (dx, dy) = screen_motion(t.take_counts());

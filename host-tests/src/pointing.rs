@@ -25,7 +25,8 @@ use imu_core::{Config, Drift, Event, Tracker};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::scene::{min_jerk_accel, ADXL335_LSB};
+use crate::mouse::Sensor;
+use crate::scene::min_jerk_accel;
 use crate::sim::{self, SimRng};
 
 const FS: f64 = 3000.0;
@@ -41,40 +42,14 @@ pub fn floor_m(t: f64) -> f64 {
     ND * t.powf(1.5) / 6f64.sqrt()
 }
 
-/// The sensor: noise, drift, gravity through a tilt, the ADC.
-#[derive(Clone)]
-struct Sensor {
-    ar: [sim::Ar1; 3],
-    walk: [f64; 3],
-    walk_sd: f64,
-}
-
-impl Sensor {
-    fn new(rng: &mut SimRng) -> Self {
-        let alpha = std::f64::consts::TAU * 50.0 / FS;
-        let r0 = ND * ND * std::f64::consts::PI * 50.0 / 2.0;
-        Self {
-            ar: core::array::from_fn(|_| sim::Ar1::new(r0, alpha, rng)),
-            walk: [0.0; 3],
-            walk_sd: 20e-6 * G / FS.sqrt(),
-        }
-    }
-
-    /// Codes for a hand acceleration `a` [m/s^2] (sensor frame, Z up) and a tilt
-    /// `(about Y, about X)` [rad]: gravity leaks `g sin` into X and Y.
-    fn codes(&mut self, a: [f64; 3], tilt: [f64; 2], rng: &mut SimRng) -> [u16; 3] {
-        let adc = sim::Adc { bits: 12 };
-        let g = [
-            G * tilt[0].sin(),
-            G * tilt[1].sin(),
-            G * tilt[0].cos() * tilt[1].cos(),
-        ];
-        core::array::from_fn(|k| {
-            self.walk[k] += self.walk_sd * sim::normal(rng);
-            let x = a[k] + g[k] + self.ar[k].next(rng) + self.walk[k];
-            adc.code(2048.0 + x / ADXL335_LSB)
-        })
-    }
+/// The gravity the sensor reads at a tilt `(about Y, about X)` [rad], flat = Z up:
+/// `g sin` leaks into X and Y.
+fn gravity(tilt: [f64; 2]) -> [f64; 3] {
+    [
+        G * tilt[0].sin(),
+        G * tilt[1].sin(),
+        G * tilt[0].cos() * tilt[1].cos(),
+    ]
 }
 
 /// What the hand and the world do at one sample.
@@ -105,13 +80,13 @@ fn calibrated(drift: Option<Drift>, seed: u64) -> Device {
     })
     .expect("valid config");
     loop {
-        let c = sensor.codes([0.0; 3], [0.0; 2], &mut rng);
+        let c = sensor.codes([0.0; 3], gravity([0.0; 2]), &mut rng);
         if let Some(Event::Calibrated(_)) = t.feed(&[c]) {
             break;
         }
     }
     for _ in 0..samples(REST_BEFORE_S) {
-        t.feed(&[sensor.codes([0.0; 3], [0.0; 2], &mut rng)]);
+        t.feed(&[sensor.codes([0.0; 3], gravity([0.0; 2]), &mut rng)]);
     }
     t.take_counts();
     Device { tracker: t, sensor }
@@ -130,7 +105,7 @@ fn run(device: &Device, seed: u64, n: usize, input: impl Fn(usize) -> Input) -> 
         if x.edge {
             t.button_edge();
         }
-        t.feed(&[sensor.codes(x.accel, x.tilt, &mut rng)]);
+        t.feed(&[sensor.codes(x.accel, gravity(x.tilt), &mut rng)]);
         if i % 3 == 2 {
             let c = t.take_counts();
             pos[0] += i64::from(c[0]);
