@@ -90,12 +90,12 @@ pub struct Calibrator {
     sum: u64,
     sum_sq: u64,
     clipped: Option<u16>,
-    /// The current tick's sum and the previous complete tick's sum.
+    /// The current tick's sum so far.
     tick_sum: u64,
     /// The first two complete ticks' sums and the last two.
     first_ticks: [u64; 2],
     last_ticks: [u64; 2],
-    /// Complete ticks, their sum, sum of squares and sum of lag-one products.
+    /// Complete ticks, their sum, sum of squares and sums of lag-one and lag-two products.
     ticks: u32,
     ticks_sum: u64,
     ticks_sum_sq: u128,
