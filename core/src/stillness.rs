@@ -462,6 +462,37 @@ const LEARN_TICKS: u32 = 16;
 /// estimate `sqrt(2 / (2 * 128))`, 9 %).
 const LEARN_BLOCKS: u64 = 128;
 
+/// The code sums of the last few ticks on each axis ([`Detector::window`]).
+#[derive(Clone, Copy, Debug)]
+struct Window {
+    sums: [u64; 3],
+    /// Samples summed, `k D`.
+    samples: i64,
+}
+
+impl Window {
+    /// Offset of the sum on `axis` from the bias [Q16 LSB samples]. At most 64 ticks of
+    /// `2^14` samples of 16-bit codes: the sum is below `2^36`, shifted `2^52`, and
+    /// `k D bias < 2^52`: `i64`.
+    fn offset(&self, axis: usize, bias: i64) -> i64 {
+        ((self.sums[axis] as i64) << 16) - self.samples * bias
+    }
+
+    /// Samples summed.
+    fn n(&self) -> u64 {
+        self.samples as u64
+    }
+
+    /// The window's means as biases (Q16 counts, rounded).
+    fn means(&self, bias: [i64; 3]) -> [i64; 3] {
+        let mut out = bias;
+        for (a, b) in out.iter_mut().enumerate() {
+            *b += crate::math::div_round(self.offset(a, *b), self.samples);
+        }
+        out
+    }
+}
+
 /// Drift-control state of a three-axis device; see the module docs.
 #[derive(Clone, Copy, Debug)]
 pub struct Detector {
@@ -651,17 +682,20 @@ impl Detector {
         self.onset = [[[self.ticks; 2]; 2]; 2];
     }
 
-    /// Offset of the last `k` ticks' code sum on `axis` from the bias [Q16 LSB samples].
-    /// `k D <= 64 * 2^14` samples of 16-bit codes: the sum is below `2^36`, shifted `2^52`,
-    /// and `k D bias < 2^52`: `i64`.
+    /// The code sums of the last `k` ticks, one pass over the ring for all three axes.
     #[inline(never)]
-    fn offset(&self, s: &DriftSettings, axis: usize, k: u32, bias: i64) -> i64 {
-        let sum: u64 = (0..u64::from(k))
-            .map(|i| {
-                u64::from(self.codes[(self.ticks.wrapping_sub(1 + i) % RING as u64) as usize][axis])
-            })
-            .sum();
-        ((sum as i64) << 16) - i64::from(k) * i64::from(s.tick) * bias
+    fn window(&self, s: &DriftSettings, k: u32) -> Window {
+        let mut sums = [0u64; 3];
+        for i in 0..u64::from(k) {
+            let t = &self.codes[(self.ticks.wrapping_sub(1 + i) % RING as u64) as usize];
+            for (sum, &c) in sums.iter_mut().zip(t) {
+                *sum += u64::from(c);
+            }
+        }
+        Window {
+            sums,
+            samples: i64::from(k) * i64::from(s.tick),
+        }
     }
 
     /// Whether an offset `d` (Q16) of a sum over `n` samples is within `k2_q8` (a squared
@@ -725,23 +759,13 @@ impl Detector {
         })
     }
 
-    /// The means of the last `k` ticks as biases (Q16 counts, rounded).
-    #[inline(never)]
-    fn means(&self, s: &DriftSettings, k: u32, bias: [i64; 3]) -> [i64; 3] {
-        let n = i64::from(k) * i64::from(s.tick);
-        let mut out = bias;
-        for (a, b) in out.iter_mut().enumerate() {
-            *b += crate::math::div_round(self.offset(s, a, k, *b), n);
-        }
-        out
-    }
-
     #[inline(never)]
     fn lifted(&self, s: &DriftSettings, bias: [i64; 3]) -> bool {
         let Some(lift) = s.lift_q16 else {
             return false;
         };
-        let off = |a: usize| i128::from(self.offset(s, a, 1, bias[a]).unsigned_abs());
+        let w = self.window(s, 1);
+        let off = |a: usize| i128::from(w.offset(a, bias[a]).unsigned_abs());
         let xy = off(0) + off(1);
         off(2) > i128::from(s.tick) * i128::from(lift) + ((i128::from(s.lift_ratio_q8) * xy) >> 8)
     }
@@ -817,8 +841,9 @@ impl Detector {
     fn still_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
         let mut alarm: Option<u64> = None;
         let mut step = false;
+        let w = self.window(s, 1);
         for (a, &b) in bias.iter().enumerate().take(2) {
-            let d = self.offset(s, a, 1, b);
+            let d = w.offset(a, b);
             let n = self.noise[a];
             for c in 0..2 {
                 for (side, z) in [d, -d].into_iter().enumerate() {
@@ -887,18 +912,18 @@ impl Detector {
     #[inline(never)]
     fn moving_tick(&mut self, s: &DriftSettings, bias: [i64; 3], velocity: [i64; 3]) -> Action {
         let k = s.quiet_ticks;
-        let n = u64::from(k) * u64::from(s.tick);
-        let quiet =
-            (0..2).all(|a| self.explained(a, self.offset(s, a, k, bias[a]), n, s.quiet_k2_q8));
+        let wq = self.window(s, k);
+        let quiet = (0..2).all(|a| self.explained(a, wq.offset(a, bias[a]), wq.n(), s.quiet_k2_q8));
         // The coast clock runs only while the rest_s window is quiet too: its mean sees an
         // acceleration 4x smaller than the quiet_s window does (a slow stroke's 1 LSB).
         let m = s
             .rest_ticks
             .min((self.ticks - self.entered).max(1) as u32)
             .max(k);
-        let nm = u64::from(m) * u64::from(s.tick);
-        let calm = quiet
-            && (0..2).all(|a| self.explained(a, self.offset(s, a, m, bias[a]), nm, s.quiet_k2_q8));
+        let calm = quiet && {
+            let wc = self.window(s, m);
+            (0..2).all(|a| self.explained(a, wc.offset(a, bias[a]), wc.n(), s.quiet_k2_q8))
+        };
         self.quiet_run = if calm { self.quiet_run + 1 } else { 0 };
         for (peak, v) in self.peak_w.iter_mut().zip(velocity) {
             *peak = (*peak).max(v.unsigned_abs());
@@ -923,7 +948,8 @@ impl Detector {
         // it was never motion: discard it and take them as the new zero. If the acceleration
         // changes, it was a slow stroke's broad peak: deliver what was held.
         let m = s.rest_ticks;
-        let nm = u64::from(m) * u64::from(s.tick);
+        let wr = self.window(s, m);
+        let nm = wr.n();
         // Once suspected, the same tests run every tick for tilt_s: refute only on evidence
         // that holds for the whole family (Slack::KEEP).
         let slack = if self.suspect.is_some() {
@@ -934,17 +960,17 @@ impl Detector {
         let steady = self.ticks - self.entered >= u64::from(m) && self.steady(s, m, slack);
         match self.suspect {
             None => {
-                let off = (0..2)
-                    .any(|a| !self.explained(a, self.offset(s, a, m, bias[a]), nm, s.quiet_k2_q8));
+                let off =
+                    (0..2).any(|a| !self.explained(a, wr.offset(a, bias[a]), nm, s.quiet_k2_q8));
                 if steady && off {
-                    self.suspect = Some((self.ticks, self.means(s, m, bias)));
+                    self.suspect = Some((self.ticks, wr.means(bias)));
                 }
             }
             Some((since, tilt)) => {
                 let settling = self.ticks - since < 2 * u64::from(m);
                 let same = |slack: Slack| {
                     (0..3).all(|a| {
-                        let d = self.offset(s, a, m, tilt[a]);
+                        let d = wr.offset(a, tilt[a]);
                         let k2 = ((u128::from(s.quiet_k2_q8) * slack.k2_q8) >> 8) as u64;
                         self.explained_against(a, d, nm, k2, nm)
                     })
@@ -954,7 +980,7 @@ impl Detector {
                 } else if settling && !same(Slack::KEEP) {
                     // Steady at another offset within 2 rest_s of the suspicion: the tilt was
                     // still settling. Keep holding, against the new means.
-                    self.suspect = Some((since, self.means(s, m, bias)));
+                    self.suspect = Some((since, wr.means(bias)));
                 } else if !settling && !same(Slack::MOVED) {
                     // Later, a changed offset is a slow stroke's acceleration moving on.
                     self.suspect = None;
@@ -962,7 +988,7 @@ impl Detector {
                     self.enter_still();
                     self.bias_samples = nm;
                     return Action::Rebias {
-                        bias: self.means(s, m, bias),
+                        bias: wr.means(bias),
                         discard: true,
                     };
                 }
@@ -977,10 +1003,10 @@ impl Detector {
         if self.ticks - self.entered < u64::from(m) || !self.steady(s, m, Slack::FIND) {
             return Action::None;
         }
-        let nm = u64::from(m) * u64::from(s.tick);
-        let moved =
-            (0..3).any(|a| !self.explained(a, self.offset(s, a, m, bias[a]), nm, s.quiet_k2_q8));
-        let b = self.means(s, m, bias);
+        let w = self.window(s, m);
+        let nm = w.n();
+        let moved = (0..3).any(|a| !self.explained(a, w.offset(a, bias[a]), nm, s.quiet_k2_q8));
+        let b = w.means(bias);
         self.enter_still();
         if moved {
             self.bias_samples = nm;
