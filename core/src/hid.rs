@@ -106,6 +106,8 @@ pub struct Reporter {
     buttons: u8,
     sent_buttons: u8,
     reports: u32,
+    sent: (i64, i64),
+    discarded: (i64, i64),
 }
 
 impl Reporter {
@@ -124,6 +126,8 @@ impl Reporter {
     /// Drops motion not yet delivered (the host is not listening: suspended or not yet
     /// configured; delivering it later would be a jump). Buttons are kept.
     pub fn discard_motion(&mut self) {
+        self.discarded.0 = self.discarded.0.wrapping_add(self.dx);
+        self.discarded.1 = self.discarded.1.wrapping_add(self.dy);
         self.dx = 0;
         self.dy = 0;
     }
@@ -144,6 +148,17 @@ impl Reporter {
     /// Reports accepted by the USB stack so far.
     pub const fn reports(&self) -> u32 {
         self.reports
+    }
+
+    /// Motion accepted by the USB stack so far [counts] (right, down), wrapping. With
+    /// [`Self::discarded`] and [`Self::undelivered`] it accounts for every count added.
+    pub const fn sent_total(&self) -> (i64, i64) {
+        self.sent
+    }
+
+    /// Motion dropped so far because the host was not listening [counts], wrapping.
+    pub const fn discarded(&self) -> (i64, i64) {
+        self.discarded
     }
 
     /// The next report to send, or `None` when there is no motion and no button change.
@@ -167,6 +182,8 @@ impl Reporter {
         self.dy -= i64::from(report.y);
         self.sent_buttons = report.buttons;
         self.reports = self.reports.wrapping_add(1);
+        self.sent.0 = self.sent.0.wrapping_add(i64::from(report.x));
+        self.sent.1 = self.sent.1.wrapping_add(i64::from(report.y));
     }
 }
 

@@ -6,7 +6,12 @@
 //! | flickering 10 Hz for 1 s | calibration rejected (it moved): still calibrating |
 //! | three short flashes every 2 s | the sensor sits on an ADC rail: check the wiring |
 //! | on | tracking: it is a mouse |
-//! | off | USB suspended (or not yet enumerated) |
+//! | one short flash a second | USB not configured: no host, or enumeration failed |
+//! | on 1 s, off 1 s | no ADC data: sampling never started or stopped (trigger, DMA, ADC) |
+//! | off | USB suspended (the suspend current budget) |
+//!
+//! Precedence: suspended, then no ADC data (a board fault outranks everything the data would
+//! tell), then a sensor on a rail, then USB not configured, then the tracker's phase.
 
 /// What the LED shows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -20,7 +25,23 @@ pub enum Indicator {
     Fault,
     /// Tracking motion.
     Tracking,
-    /// USB suspended or not configured: LED off (and within the suspend current budget).
+    /// USB not configured (no host, enumeration failed, or reset).
+    NotConfigured,
+    /// No ADC data: the sampling stalled or never started.
+    NoData,
+    /// USB suspended: LED off (within the suspend current budget).
+    Suspended,
+}
+
+/// The USB link as the device sees it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Link {
+    /// Not configured: unplugged, reset, or enumeration not (yet) done.
+    NotConfigured,
+    /// Configured by the host: reports flow.
+    Configured,
+    /// Suspended by the host.
     Suspended,
 }
 
@@ -43,17 +64,30 @@ impl Indicator {
     /// How long [`Indicator::Rejected`] is shown before going back to calibrating [ms].
     pub const REJECTED_MS: u32 = 1000;
 
-    /// What to show: USB state first (a suspended device must stay dark), then the tracker's
-    /// phase and its last calibration outcome.
-    pub const fn choose(usb_configured: bool, tracking: bool, last: LastCalibration) -> Self {
-        if !usb_configured {
+    /// What to show, in the module's order of precedence: the USB `link`, whether ADC data
+    /// `arrives`, whether the tracker is `tracking`, and its `last` calibration outcome.
+    pub const fn choose(
+        link: Link,
+        arrives: bool,
+        tracking: bool,
+        last: LastCalibration,
+    ) -> Self {
+        if matches!(link, Link::Suspended) {
             return Self::Suspended;
+        }
+        if !arrives {
+            return Self::NoData;
+        }
+        if !tracking && matches!(last, LastCalibration::Clipped) {
+            return Self::Fault;
+        }
+        if !matches!(link, Link::Configured) {
+            return Self::NotConfigured;
         }
         if tracking {
             return Self::Tracking;
         }
         match last {
-            LastCalibration::Clipped => Self::Fault,
             LastCalibration::Moved { ms } if ms < Self::REJECTED_MS => Self::Rejected,
             _ => Self::Calibrating,
         }
@@ -69,6 +103,8 @@ impl Indicator {
                 phase < 600 && (phase / 100).is_multiple_of(2)
             }
             Self::Tracking => true,
+            Self::NotConfigured => t_ms % 1000 < 100,
+            Self::NoData => t_ms % 2000 < 1000,
             Self::Suspended => false,
         }
     }
@@ -83,20 +119,29 @@ mod tests {
     }
 
     #[test]
-    fn choice_puts_usb_first_then_phase_then_last_outcome() {
+    fn choice_follows_the_documented_precedence() {
         use LastCalibration::*;
-        assert_eq!(Indicator::choose(false, true, Fine), Indicator::Suspended);
-        assert_eq!(Indicator::choose(true, true, Clipped), Indicator::Tracking);
-        assert_eq!(Indicator::choose(true, false, Clipped), Indicator::Fault);
+        use Link::*;
+        // Suspended stays dark whatever else holds.
+        assert_eq!(Indicator::choose(Suspended, false, false, Clipped), Indicator::Suspended);
+        // No data outranks the sensor, USB and the phase.
+        assert_eq!(Indicator::choose(Configured, false, true, Fine), Indicator::NoData);
+        assert_eq!(Indicator::choose(NotConfigured, false, false, Clipped), Indicator::NoData);
+        // A rail outranks USB, but only while calibrating.
+        assert_eq!(Indicator::choose(NotConfigured, true, false, Clipped), Indicator::Fault);
+        assert_eq!(Indicator::choose(Configured, true, true, Clipped), Indicator::Tracking);
+        assert_eq!(Indicator::choose(NotConfigured, true, true, Fine), Indicator::NotConfigured);
+        assert_eq!(Indicator::choose(NotConfigured, true, false, Fine), Indicator::NotConfigured);
+        assert_eq!(Indicator::choose(Configured, true, false, Clipped), Indicator::Fault);
         assert_eq!(
-            Indicator::choose(true, false, Moved { ms: 999 }),
+            Indicator::choose(Configured, true, false, Moved { ms: 999 }),
             Indicator::Rejected
         );
         assert_eq!(
-            Indicator::choose(true, false, Moved { ms: 1000 }),
+            Indicator::choose(Configured, true, false, Moved { ms: 1000 }),
             Indicator::Calibrating
         );
-        assert_eq!(Indicator::choose(true, false, Fine), Indicator::Calibrating);
+        assert_eq!(Indicator::choose(Configured, true, false, Fine), Indicator::Calibrating);
     }
 
     #[test]
@@ -105,6 +150,19 @@ mod tests {
         assert_eq!(on_ms(Indicator::Rejected, 1000), 500);
         assert_eq!(on_ms(Indicator::Fault, 2000), 300); // three 100 ms flashes
         assert_eq!(on_ms(Indicator::Tracking, 1000), 1000);
+        assert_eq!(on_ms(Indicator::NotConfigured, 1000), 100);
+        assert_eq!(on_ms(Indicator::NoData, 2000), 1000);
         assert_eq!(on_ms(Indicator::Suspended, 1000), 0);
+    }
+
+    #[test]
+    fn every_pattern_differs_from_every_other_over_two_seconds() {
+        use Indicator::*;
+        let all = [Calibrating, Rejected, Fault, Tracking, NotConfigured, NoData, Suspended];
+        for (i, a) in all.iter().enumerate() {
+            for b in &all[i + 1..] {
+                assert!((0..2000).any(|t| a.lit(t) != b.lit(t)), "{a:?} looks like {b:?}");
+            }
+        }
     }
 }

@@ -15,7 +15,8 @@
 //! [`Axis`] composes the stages for one axis, [`Tracker`] runs three axes through calibration
 //! and tracking. The device's other logic lives here too, so that it is tested on the host:
 //! [`hid`] (report descriptor, packing and scheduling), [`button`] (debounce, long press),
-//! [`ledger`] (lost-sample accounting) and [`indicator`] (LED patterns). The physics and every error formula are in the project's REFERENCE.md
+//! [`ledger`] (lost-sample accounting), [`indicator`] (LED patterns) and [`power`] (USB
+//! suspend and remote wake-up). The physics and every error formula are in the project's REFERENCE.md
 //! (Thong et al., Meas. Sci. Technol. 13 (2002) 1163).
 //!
 //! # Fixed-point formats
@@ -36,6 +37,7 @@ pub mod integrator;
 pub mod kernels;
 pub mod ledger;
 pub mod lowpass;
+pub mod power;
 mod math;
 pub mod readout;
 pub mod stillness;
@@ -48,9 +50,10 @@ pub use button::{ButtonEvent, Debouncer};
 pub use calibration::{Calibration, CalibrationError, Calibrator};
 pub use config::{Config, ConfigError, Settings};
 pub use hid::{MouseReport, Reporter};
-pub use indicator::{Indicator, LastCalibration};
+pub use indicator::{Indicator, LastCalibration, Link};
 pub use integrator::{BlockSums, IntegratorState, Scheme};
-pub use ledger::{LedgerError, SampleLedger};
+pub use ledger::{Delivery, LedgerError, SampleLedger};
+pub use power::{Power, PowerAction};
 pub use lowpass::{Lowpass, LowpassState};
 pub use readout::{Readout, ReadoutState};
 pub use stillness::{Drift, DriftError, State as DriftState};

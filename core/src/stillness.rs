@@ -606,6 +606,12 @@ impl Detector {
         (ticks < REPLAY).then(|| self.sums[(i % REPLAY as u64) as usize].map(|t| t.last))
     }
 
+    /// The sample stream was interrupted (a sampling restart): whatever was moving is
+    /// over, and the detector waits at rest for the next start.
+    pub fn restart(&mut self) {
+        self.enter_still();
+    }
+
     /// A button changed state: the held motion (if any) is discarded, a delivered one
     /// stops, and nothing is integrated for the click freeze.
     pub fn click(&mut self, s: &DriftSettings) -> Action {

@@ -284,6 +284,21 @@ impl Tracker {
         }
     }
 
+    /// Reports that the sampling died and was restarted, `lost` sample triples after the
+    /// last good block. Unlike [`Self::lost`] nothing is held: the acceleration of the gap
+    /// is unknown (holding the last codes through a long gap mid-stroke would integrate a
+    /// stale acceleration for all of it), so the motion in progress stops at zero velocity
+    /// and drift control starts again from rest. What was integrated before the gap stays.
+    pub fn restarted(&mut self, lost: u32) {
+        self.counters.lost += u64::from(lost);
+        if self.phase == Phase::Tracking {
+            self.axes.iter_mut().for_each(Axis::zero_velocity);
+            if let Some(det) = self.detector.as_mut() {
+                det.restart();
+            }
+        }
+    }
+
     /// Whether drift control currently holds the device still (`false` without drift
     /// control or while calibrating).
     pub fn is_still(&self) -> bool {

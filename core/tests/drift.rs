@@ -478,3 +478,27 @@ fn a_brisk_stroke_that_a_tilted_mount_puts_on_z_is_not_a_lift() {
         );
     }
 }
+
+/// Sampling dies 0.2 s into a push and restarts 1 s later: the gap's acceleration is
+/// unknown. `restarted` stops the motion there; `lost` (for a late block, where holding is
+/// right) would hold the push for the whole second. The control shows what the hold costs.
+#[test]
+fn a_sampling_restart_mid_stroke_stops_the_motion_instead_of_holding_it() {
+    for drift in [Some(Drift::default()), None] {
+        let push = |i: usize| if i < 600 { [2078, 2048, 2048] } else { [2048; 3] };
+        let mut cut = tracker(drift);
+        let mut held = tracker(drift);
+        let before = run(&mut cut, 600, push)[0];
+        assert_eq!(run(&mut held, 600, push)[0], before);
+        cut.restarted(3000);
+        held.lost(3000);
+        let after_cut = run(&mut cut, 300, |_| [2048; 3])[0];
+        let after_held = run(&mut held, 300, |_| [2048; 3])[0];
+        assert_eq!(cut.counters().lost, 3000);
+        // 30 LSB for 0.2 s is 1.4 m/s^2 and 0.28 m/s: 9 counts so far, and a held second
+        // would add 0.28 m/s x 1 s + 1.4 m/s^2 x 1 s^2 / 2 = 1 m, tens of thousands of counts.
+        assert!(before > 5, "{drift:?}: the push moved {before}");
+        assert!(after_cut.abs() <= 1, "{drift:?}: {after_cut} counts after the restart");
+        assert!(after_held > 10_000, "{drift:?}: the hold moved only {after_held}");
+    }
+}

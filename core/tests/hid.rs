@@ -121,3 +121,34 @@ fn host_reset_resends_held_buttons_and_drops_motion() {
     let rep = r.pending().expect("buttons re-sent after reset");
     assert_eq!((rep.buttons, rep.x, rep.y), (buttons::RIGHT, 0, 0));
 }
+
+/// Every count added is sent, discarded (host not listening) or still owed, whatever the
+/// pattern of refused pushes and resets.
+#[test]
+fn every_count_is_sent_discarded_or_owed() {
+    let mut r = Reporter::default();
+    let (mut added_x, mut added_y) = (0i64, 0i64);
+    let mut state = 12345u64;
+    for i in 0..10_000u32 {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let dx = ((state >> 33) % 301) as i32 - 150;
+        let dy = ((state >> 45) % 41) as i32 - 20;
+        r.add_motion(dx, dy);
+        added_x += i64::from(dx);
+        added_y += i64::from(dy);
+        match (state >> 60) % 4 {
+            0 => {} // the host is busy: WouldBlock
+            1 if i % 7 == 0 => r.host_reset(),
+            _ => {
+                if let Some(rep) = r.pending() {
+                    r.sent(&rep);
+                }
+            }
+        }
+    }
+    let (sx, sy) = r.sent_total();
+    let (dx, dy) = r.discarded();
+    let (ox, oy) = r.undelivered();
+    assert_eq!((sx + dx + ox, sy + dy + oy), (added_x, added_y));
+    assert!(dx != 0 && sx != 0, "both paths taken: sent {sx}, discarded {dx}");
+}

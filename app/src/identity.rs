@@ -1,0 +1,25 @@
+//! Who the device says it is on USB: IDs, strings, power, the HID endpoint's interval and the
+//! motion that wakes a suspended host. Product identity, not board wiring: the firmware and
+//! the twin enumerate identically.
+
+/// USB vendor and product ID: pid.codes' test PID 1209:0001, free to use for testing an
+/// open project. A released product should get its own PID from pid.codes.
+pub const VID_PID: (u16, u16) = (0x1209, 0x0001);
+/// Manufacturer string.
+pub const MANUFACTURER: &str = "imu-mouse project";
+/// Product string.
+pub const PRODUCT: &str = "imu-mouse accelerometer mouse";
+/// Serial number string.
+pub const SERIAL: &str = "0001";
+/// Device release number, BCD (`bcdDevice`, 0x0100 = 1.00).
+pub const RELEASE_BCD: u16 = 0x0100;
+/// Most current the device draws from the bus while configured [mA]; the configuration
+/// descriptor carries half of it (2 mA units). The F411 at 96 MHz with the ADC running and
+/// an ADXL335 stays well under it.
+pub const MAX_POWER_MA: usize = 100;
+/// HID interrupt IN polling interval requested from the host [ms] (full speed frames).
+pub const POLL_MS: u8 = 1;
+/// Acceleration change that wakes a suspended host [m/s^2], on any axis (the probe compares
+/// single samples with the first after the suspend; ADXL335 noise per sample is about
+/// 0.03 m/s^2, a hand moving a mouse exceeds 0.5 m/s^2, and a tilt of 3 degrees gives it).
+pub const WAKE_MOTION_M_S2: f64 = 0.5;

@@ -1,0 +1,28 @@
+//! imu-mouse's device application, free of registers: the USB HID mouse (device, class,
+//! report scheduling), the 1 ms housekeeping (KEY, LED, suspend and wake-up, log schedule)
+//! and the sample path's glue, generic over `usb_device::bus::UsbBus` and the embedded-hal
+//! 1.0 digital pins.
+//!
+//! The firmware runs it on the STM32F411 (its board layer owns pins, clocks, ADC, DMA and
+//! the RTIC binding, and makes no decision); `cargo lab twin` runs it unchanged on the host
+//! as a USB/IP device. Every decision is in `imu_core` or here, and tested on the host.
+//!
+//! | module | stage |
+//! |---|---|
+//! | [`identity`] | who the device is on USB |
+//! | [`mouse`] | USB device, HID class, report push |
+//! | [`sampling`] | a DMA block into the tracker (or the suspend probe) |
+//! | [`housekeeping`] | KEY, power, LED, log schedule every 1 ms |
+//! | [`status`] | calibration outcome, suspend state, LED choice |
+#![no_std]
+#![forbid(unsafe_code)]
+
+pub mod housekeeping;
+pub mod identity;
+pub mod mouse;
+pub mod sampling;
+pub mod status;
+
+pub use housekeeping::{Housekeeping, Tick, Timing};
+pub use mouse::Mouse;
+pub use status::Status;

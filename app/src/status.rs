@@ -1,0 +1,70 @@
+//! What the device shows and how it stands: the last calibration outcome, the suspend state
+//! machine, and the LED pattern chosen from them.
+
+use imu_core::{
+    CalibrationError, Event, Indicator, LastCalibration, Link, Phase, Power, PowerAction, Tracker,
+};
+
+/// The device's status, shared by the sample path (calibration outcomes, suspend probe) and
+/// housekeeping (LED, power decisions).
+#[derive(Clone, Copy, Debug)]
+pub struct Status {
+    last: Option<(Event, u32)>,
+    power: Power,
+}
+
+impl Status {
+    /// No calibration outcome yet, awake; a suspended device wakes the host on a change of
+    /// `wake_motion_lsb` ADC codes on any axis.
+    pub const fn new(wake_motion_lsb: u16) -> Self {
+        Self {
+            last: None,
+            power: Power::new(wake_motion_lsb),
+        }
+    }
+
+    /// A calibration window ended with `event` at `now_ms` [ms].
+    pub fn record(&mut self, event: Event, now_ms: u32) {
+        self.last = Some((event, now_ms));
+    }
+
+    /// Whether the device is suspended (its blocks are motion probes, not tracking data).
+    pub const fn suspended(&self) -> bool {
+        self.power.suspended()
+    }
+
+    /// A probe sample `[x, y, z]` [ADC codes] while suspended.
+    pub fn probe(&mut self, codes: [u16; 3]) {
+        self.power.probe(codes);
+    }
+
+    /// The suspend decision for this tick (see [`Power::tick`]).
+    pub fn power(
+        &mut self,
+        now_ms: u32,
+        link: Link,
+        remote_wakeup: bool,
+        key_pressed: bool,
+    ) -> PowerAction {
+        self.power.tick(now_ms, link, remote_wakeup, key_pressed)
+    }
+
+    /// The LED pattern at `now_ms` [ms] for the USB `link`, whether ADC data `arrives`, and
+    /// the `tracker`'s phase.
+    pub fn indicator(&self, link: Link, arrives: bool, tracker: &Tracker, now_ms: u32) -> Indicator {
+        let last = match self.last {
+            Some((
+                Event::Rejected {
+                    error: CalibrationError::Clipped { .. },
+                    ..
+                },
+                _,
+            )) => LastCalibration::Clipped,
+            Some((Event::Rejected { .. }, at)) => LastCalibration::Moved {
+                ms: now_ms.wrapping_sub(at),
+            },
+            _ => LastCalibration::Fine,
+        };
+        Indicator::choose(link, arrives, tracker.phase() == Phase::Tracking, last)
+    }
+}

@@ -1,0 +1,182 @@
+//! USB suspend and remote wake-up: when the device stops sampling, when it starts again, and
+//! when it wakes a sleeping host.
+//!
+//! # Design
+//! The host suspends the bus (no traffic for 3 ms); a suspended device must draw at most
+//! 2.5 mA, so the sampling for tracking stops ([`PowerAction::Suspend`]) and the board keeps
+//! only a slow motion probe and the KEY. When the host resumes or resets the bus, sampling
+//! starts again ([`PowerAction::Resume`]; the tracker recalibrates, since the rest it knew is
+//! stale). If the host enabled remote wake-up (SET_FEATURE DEVICE_REMOTE_WAKEUP, allowed by
+//! the configuration descriptor), a KEY press or a motion wakes it ([`PowerAction::Wake`]):
+//! not before the bus has been idle [`Power::WAKE_AFTER_MS`] (USB 2.0, 7.1.7.7), and at most
+//! once every [`Power::WAKE_RETRY_MS`] while the host stays asleep.
+//!
+//! Motion is a probe sample that differs from the first probe after the suspend by more than
+//! the threshold on any axis: a moved or tilted mouse. The threshold is in ADC codes; the
+//! board sets it far above the single-sample noise (about 1 LSB for the ADXL335 here).
+
+use crate::indicator::Link;
+
+/// What the board must do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum PowerAction {
+    /// Nothing changes.
+    None,
+    /// The bus was suspended: stop sampling for tracking, start the motion probe, dim.
+    Suspend,
+    /// The bus is active again: stop the probe, start sampling, recalibrate.
+    Resume,
+    /// Signal remote wake-up to the host (resume signalling for 1 to 15 ms).
+    Wake,
+}
+
+/// The suspend state machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Power {
+    motion_lsb: u16,
+    suspended_at: Option<u32>,
+    reference: Option<[u16; 3]>,
+    moved: bool,
+    key_was: bool,
+    woke_at: Option<u32>,
+}
+
+impl Power {
+    /// Bus idle time before a remote wake-up may be signalled [ms], counted from the
+    /// suspend's detection (which itself follows 3 ms of idle).
+    pub const WAKE_AFTER_MS: u32 = 5;
+    /// Interval between two wake-up signals while the host does not resume [ms].
+    pub const WAKE_RETRY_MS: u32 = 1000;
+
+    /// Awake, with a motion threshold of `motion_lsb` ADC codes on any axis.
+    pub const fn new(motion_lsb: u16) -> Self {
+        Self {
+            motion_lsb,
+            suspended_at: None,
+            reference: None,
+            moved: false,
+            key_was: false,
+            woke_at: None,
+        }
+    }
+
+    /// Whether the device is suspended (sampling for tracking stopped).
+    pub const fn suspended(&self) -> bool {
+        self.suspended_at.is_some()
+    }
+
+    /// One probe sample `[x, y, z]` [ADC codes] while suspended; ignored while awake.
+    pub fn probe(&mut self, codes: [u16; 3]) {
+        if !self.suspended() {
+            return;
+        }
+        match self.reference {
+            None => self.reference = Some(codes),
+            Some(r) => {
+                let far = r.iter().zip(codes).any(|(&r, c)| r.abs_diff(c) > self.motion_lsb);
+                self.moved |= far;
+            }
+        }
+    }
+
+    /// One housekeeping tick at `now_ms` [ms]: the USB `link`, whether the host enabled
+    /// `remote_wakeup`, and whether KEY is `key_pressed` (debounced).
+    pub fn tick(
+        &mut self,
+        now_ms: u32,
+        link: Link,
+        remote_wakeup: bool,
+        key_pressed: bool,
+    ) -> PowerAction {
+        let press = key_pressed && !self.key_was;
+        self.key_was = key_pressed;
+        match (self.suspended_at, link) {
+            (None, Link::Suspended) => {
+                self.suspended_at = Some(now_ms);
+                self.reference = None;
+                self.moved = false;
+                self.woke_at = None;
+                PowerAction::Suspend
+            }
+            (None, _) => PowerAction::None,
+            (Some(_), Link::Configured | Link::NotConfigured) => {
+                self.suspended_at = None;
+                PowerAction::Resume
+            }
+            (Some(at), Link::Suspended) => {
+                let idle = now_ms.wrapping_sub(at) >= Self::WAKE_AFTER_MS;
+                let rested = self
+                    .woke_at
+                    .is_none_or(|w| now_ms.wrapping_sub(w) >= Self::WAKE_RETRY_MS);
+                let cause = press || self.moved;
+                if remote_wakeup && idle && rested && cause {
+                    self.woke_at = Some(now_ms);
+                    self.moved = false;
+                    self.reference = None;
+                    PowerAction::Wake
+                } else {
+                    PowerAction::None
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn suspended(p: &mut Power) {
+        assert_eq!(p.tick(0, Link::Configured, true, false), PowerAction::None);
+        assert_eq!(p.tick(1, Link::Suspended, true, false), PowerAction::Suspend);
+        assert!(p.suspended());
+    }
+
+    #[test]
+    fn suspend_and_resume_follow_the_link() {
+        let mut p = Power::new(12);
+        suspended(&mut p);
+        assert_eq!(p.tick(2, Link::Suspended, true, false), PowerAction::None);
+        assert_eq!(p.tick(3, Link::Configured, true, false), PowerAction::Resume);
+        assert!(!p.suspended());
+        // A bus reset during the suspend resumes too (the host re-enumerates).
+        assert_eq!(p.tick(4, Link::Suspended, true, false), PowerAction::Suspend);
+        assert_eq!(p.tick(5, Link::NotConfigured, true, false), PowerAction::Resume);
+    }
+
+    #[test]
+    fn a_key_press_wakes_the_host_only_if_allowed_and_after_the_idle_time() {
+        let mut p = Power::new(12);
+        suspended(&mut p);
+        // Not allowed by the host: never.
+        assert_eq!(p.tick(10, Link::Suspended, false, true), PowerAction::None);
+        assert_eq!(p.tick(11, Link::Suspended, false, false), PowerAction::None);
+        let mut p = Power::new(12);
+        suspended(&mut p);
+        // Too early (the bus must idle 5 ms after the suspend was seen at 1 ms).
+        assert_eq!(p.tick(5, Link::Suspended, true, true), PowerAction::None);
+        // Held, not pressed again: no new edge.
+        assert_eq!(p.tick(6, Link::Suspended, true, true), PowerAction::None);
+        assert_eq!(p.tick(7, Link::Suspended, true, false), PowerAction::None);
+        assert_eq!(p.tick(8, Link::Suspended, true, true), PowerAction::Wake);
+    }
+
+    #[test]
+    fn motion_beyond_the_threshold_wakes_and_the_signal_is_not_repeated_at_once() {
+        let mut p = Power::new(12);
+        p.probe([2048, 2048, 2900]); // awake: ignored
+        suspended(&mut p);
+        p.probe([2048, 2048, 2458]);
+        p.probe([2060, 2036, 2470]); // 12 codes: noise
+        assert_eq!(p.tick(10, Link::Suspended, true, false), PowerAction::None);
+        p.probe([2048, 2048, 2471]); // 13 codes on z: moved (or tilted)
+        assert_eq!(p.tick(11, Link::Suspended, true, false), PowerAction::Wake);
+        // The host did not resume: the next motion wakes it again, a retry interval later.
+        p.probe([2048, 2048, 2458]);
+        p.probe([2100, 2048, 2458]);
+        assert_eq!(p.tick(500, Link::Suspended, true, false), PowerAction::None);
+        assert_eq!(p.tick(1011, Link::Suspended, true, false), PowerAction::Wake);
+        assert_eq!(p.tick(1012, Link::Configured, true, false), PowerAction::Resume);
+    }
+}
