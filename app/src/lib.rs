@@ -9,6 +9,7 @@
 //!
 //! | module | stage |
 //! |---|---|
+//! | [`device`] | accepted rates, block length, tracker configuration, timing |
 //! | [`identity`] | who the device is on USB |
 //! | [`mouse`] | USB device, HID class, report push |
 //! | [`sampling`] | a DMA block into the tracker (or the suspend probe) |
@@ -17,6 +18,7 @@
 #![no_std]
 #![forbid(unsafe_code)]
 
+pub mod device;
 pub mod housekeeping;
 pub mod identity;
 pub mod mouse;

@@ -6,7 +6,7 @@
 //! sensor's own noise, measured at calibration (REFERENCE (i)).
 //!
 //! # Ticks and the noise model
-//! The detector works on ticks of `D = round(fs * 5 ms)` samples (at least 1): per tick and
+//! The detector works on ticks of `D = ceil(fs * 5 ms)` samples (at least 1): per tick and
 //! axis it keeps the sum of the raw codes `s` and the [`BlockSums`] of the filtered samples
 //! (so a motion's onset can be integrated after the fact, exactly). Its statistics come from
 //! the calibration ([`Calibration`]): `q`, the long-run variance per sample (a sum of `n`
@@ -74,7 +74,9 @@ use core::fmt;
 use crate::calibration::Calibration;
 use crate::integrator::BlockSums;
 
-/// Length of a detector tick [s]; a tick is `round(fs * TICK_S)` samples, at least 1.
+/// Shortest detector tick [s]; a tick is `ceil(fs * TICK_S)` samples, so that the windows
+/// counted in ticks (the rest window up to [`RING`] ticks) hold at every rate; at rates where
+/// `fs * TICK_S` is not whole a tick is longer than 5 ms (8.3 ms at 240 Hz).
 pub const TICK_S: f64 = 0.005;
 /// Ticks of raw-code sums kept (320 ms at 5 ms ticks): the longest `quiet_s` and `rest_s`.
 pub const RING: usize = 64;
@@ -97,9 +99,11 @@ struct TickSums {
 /// sd: brisk strokes), whose alarm is half the slow one's.
 const KAPPA_Q8: [i64; 2] = [128, 384];
 
-/// Samples per detector tick at `fs_hz`: `round(fs * TICK_S)`, `1..=2^14`.
+/// Samples per detector tick at `fs_hz`: `ceil(fs_hz * 5 / 1000)` ([`TICK_S`], computed in
+/// integers so that whole products stay whole), `1..=2^14`.
 pub fn tick_samples(fs_hz: u32) -> u32 {
-    (crate::math::round_to_u64(f64::from(fs_hz) * TICK_S) as u32).clamp(1, 1 << 14)
+    let ms = (TICK_S * 1000.0) as u64; // 5
+    (((u64::from(fs_hz) * ms).div_ceil(1000)) as u32).clamp(1, 1 << 14)
 }
 
 /// Drift control settings in physical units (seconds, m/s^2) and multiples of the noise

@@ -1,0 +1,70 @@
+//! The device's settings that are not wiring: the rates it accepts, the block length, the
+//! tracker's configuration for its sensor, and the housekeeping timing.
+//!
+//! # Design
+//! A rate is accepted when it lies in [`FS_MIN_HZ`]`..=`[`FS_MAX_HZ`] and divides the
+//! sample clock (so the trigger timer and the ledger count whole cycles). The firmware
+//! checks its rate with [`rate_accepted`] at compile time, and a host test builds the
+//! tracker at every accepted rate: a board configuration that would fail at boot fails the
+//! build or the tests instead.
+
+use imu_core::{Config, Drift, Scheme};
+
+use crate::housekeeping::Timing;
+
+/// Lowest accepted sampling rate [Hz]: one DMA block per sample at 100 Hz.
+pub const FS_MIN_HZ: u32 = 100;
+/// Highest accepted sampling rate [Hz]: a 3-channel scan at 112 + 12 ADC cycles of 24 MHz
+/// takes 15.5 us, so 20 kHz keeps the ADC 31 % idle.
+pub const FS_MAX_HZ: u32 = 20_000;
+
+/// Whether the device runs at `fs_hz` [Hz] with a sample clock of `clock_hz` [Hz].
+pub const fn rate_accepted(fs_hz: u32, clock_hz: u32) -> bool {
+    fs_hz >= FS_MIN_HZ && fs_hz <= FS_MAX_HZ && clock_hz.is_multiple_of(fs_hz)
+}
+
+/// Sample triples per DMA block at `fs_hz` [Hz]: 1 ms of samples, rounded down, at least
+/// one. A block lasts exactly 1 ms only when `fs_hz` is a multiple of 1 kHz; otherwise
+/// `block / fs_hz` (at 1500 Hz one sample is 0.67 ms, at 150 Hz 6.7 ms).
+pub const fn block_len(fs_hz: u32) -> usize {
+    if fs_hz >= 1000 {
+        (fs_hz / 1000) as usize
+    } else {
+        1
+    }
+}
+
+/// The tracker's configuration at `fs_hz` [Hz]: an ADXL335 (300 mV/g at 3.3 V, ratiometric)
+/// on a 12-bit ADC, 800 counts per inch, drift control on (REFERENCE (g)).
+pub fn tracker_config(fs_hz: u32) -> Config {
+    Config {
+        fs_hz,
+        lowpass_fc_hz: None,
+        m_s2_per_lsb: 9.806_65 * 10.0 / 4096.0,
+        adc_bits: 12,
+        counts_per_inch: 800,
+        scheme: Scheme::Euler,
+        calibration_s: 1.0,
+        rest_noise_max_m_s2: 0.1,
+        drift: Some(Drift::default()),
+    }
+}
+
+/// The housekeeping timing of the 1 ms tick: 5 ms debounce, 2 s long press (recalibrate),
+/// a counter log every 5 s.
+pub const TIMING: Timing = Timing {
+    debounce_ms: 5,
+    long_press_ms: 2000,
+    log_interval_ms: 5000,
+};
+
+/// The suspend probe's motion threshold in ADC codes for [`crate::identity::WAKE_MOTION_M_S2`]
+/// at `m_s2_per_lsb` [m/s^2 per code], at least 4 codes.
+pub fn wake_motion_lsb(m_s2_per_lsb: f64) -> u16 {
+    let codes = crate::identity::WAKE_MOTION_M_S2 / m_s2_per_lsb;
+    if codes.is_finite() && codes < f64::from(u16::MAX) {
+        (codes as u16).max(4)
+    } else {
+        u16::MAX
+    }
+}

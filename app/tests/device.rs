@@ -1,0 +1,38 @@
+//! Every rate the firmware build accepts gives a valid tracker (the boot never fails on
+//! configuration), and the block and wake-up rules hold.
+
+use imu_app::device::{self, block_len, rate_accepted, tracker_config, FS_MAX_HZ, FS_MIN_HZ};
+use imu_core::{SampleLedger, Tracker};
+
+/// The firmware's sample clock (SYSCLK, the TIM2 and TIM5 clock) [Hz].
+const CLOCK_HZ: u32 = 96_000_000;
+
+#[test]
+fn every_accepted_rate_builds_the_tracker_and_the_ledger() {
+    let accepted: Vec<u32> = (0..=FS_MAX_HZ + 1).filter(|&f| rate_accepted(f, CLOCK_HZ)).collect();
+    // 96 MHz = 2^10 3 5^6: its divisors in 100..=20000.
+    assert_eq!(accepted.first(), Some(&FS_MIN_HZ));
+    assert!(accepted.contains(&120) && accepted.contains(&150) && accepted.contains(&20_000));
+    assert!(!accepted.contains(&7000) && !accepted.contains(&99) && !accepted.contains(&20_001));
+    for fs in accepted {
+        let config = tracker_config(fs);
+        if let Err(e) = Tracker::new(&config) {
+            panic!("fs {fs} Hz: {e}");
+        }
+        let block = block_len(fs) as u32;
+        if let Err(e) = SampleLedger::new(CLOCK_HZ, fs, block) {
+            panic!("fs {fs} Hz: {e}");
+        }
+        assert!(block >= 1 && u64::from(block) * 1000 <= u64::from(fs).max(1000));
+    }
+}
+
+#[test]
+fn wake_threshold_is_far_above_the_noise_of_one_sample() {
+    let lsb = tracker_config(3000).m_s2_per_lsb;
+    let codes = device::wake_motion_lsb(lsb);
+    // 0.5 m/s^2 at 0.0239 m/s^2 per code; the ADXL335's noise per sample is about 1 code.
+    assert_eq!(codes, 20);
+    assert_eq!(device::wake_motion_lsb(1.0), 4);
+    assert_eq!(device::wake_motion_lsb(0.0), u16::MAX);
+}
