@@ -51,7 +51,13 @@ impl Status {
 
     /// The LED pattern at `now_ms` [ms] for the USB `link`, whether ADC data `arrives`, and
     /// the `tracker`'s phase.
-    pub fn indicator(&self, link: Link, arrives: bool, tracker: &Tracker, now_ms: u32) -> Indicator {
+    pub fn indicator(
+        &self,
+        link: Link,
+        arrives: bool,
+        tracker: &Tracker,
+        now_ms: u32,
+    ) -> Indicator {
         let last = match self.last {
             Some((
                 Event::Rejected {

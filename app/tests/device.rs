@@ -9,7 +9,9 @@ const CLOCK_HZ: u32 = 96_000_000;
 
 #[test]
 fn every_accepted_rate_builds_the_tracker_and_the_ledger() {
-    let accepted: Vec<u32> = (0..=FS_MAX_HZ + 1).filter(|&f| rate_accepted(f, CLOCK_HZ)).collect();
+    let accepted: Vec<u32> = (0..=FS_MAX_HZ + 1)
+        .filter(|&f| rate_accepted(f, CLOCK_HZ))
+        .collect();
     // 96 MHz = 2^10 3 5^6: its divisors in 100..=20000.
     assert_eq!(accepted.first(), Some(&FS_MIN_HZ));
     assert!(accepted.contains(&120) && accepted.contains(&150) && accepted.contains(&20_000));

@@ -45,10 +45,16 @@ fn le16(b: &[u8], i: usize) -> u16 {
 #[test]
 fn device_descriptor_names_the_product() {
     Ctx.with_usb(|mut cls, mut dev| {
-        let d = dev.device_get_descriptor(&mut cls, 1, 0, 0, 18).expect("device descriptor");
+        let d = dev
+            .device_get_descriptor(&mut cls, 1, 0, 0, 18)
+            .expect("device descriptor");
         assert_eq!(d.len(), 18);
         assert_eq!((d[0], d[1]), (18, 1));
-        assert_eq!(le16(&d, 2), 0x0210, "bcdUSB 2.1: usb-device 0.3 serves a BOS descriptor");
+        assert_eq!(
+            le16(&d, 2),
+            0x0210,
+            "bcdUSB 2.1: usb-device 0.3 serves a BOS descriptor"
+        );
         assert_eq!((d[4], d[5], d[6]), (0, 0, 0), "class in the interface");
         assert_eq!(d[7], 8, "bMaxPacketSize0");
         assert_eq!((le16(&d, 8), le16(&d, 10)), identity::VID_PID);
@@ -62,19 +68,29 @@ fn device_descriptor_names_the_product() {
 #[test]
 fn configuration_is_one_hid_mouse_interface_with_remote_wakeup() {
     Ctx.with_usb(|mut cls, mut dev| {
-        let head = dev.device_get_descriptor(&mut cls, 2, 0, 0, 9).expect("config head");
+        let head = dev
+            .device_get_descriptor(&mut cls, 2, 0, 0, 9)
+            .expect("config head");
         let total = le16(&head, 2);
         let c = dev
             .device_get_descriptor(&mut cls, 2, 0, 0, total)
             .expect("configuration");
         assert_eq!(c.len(), usize::from(total));
-        assert_eq!(total, 9 + 9 + 9 + 7, "configuration, interface, HID, endpoint");
+        assert_eq!(
+            total,
+            9 + 9 + 9 + 7,
+            "configuration, interface, HID, endpoint"
+        );
         assert_eq!(c[4], 1, "one interface");
         assert_eq!(c[7], 0x80 | 0x20, "bus powered, remote wake-up");
         assert_eq!(usize::from(c[8]) * 2, identity::MAX_POWER_MA);
         let iface = &c[9..18];
         assert_eq!((iface[1], iface[4]), (4, 1), "interface with one endpoint");
-        assert_eq!((iface[5], iface[6], iface[7]), (3, 0, 2), "HID, no subclass, mouse");
+        assert_eq!(
+            (iface[5], iface[6], iface[7]),
+            (3, 0, 2),
+            "HID, no subclass, mouse"
+        );
         let hid = &c[18..27];
         assert_eq!((hid[0], hid[1]), (9, 0x21));
         assert_eq!(le16(hid, 2), 0x0110, "HID 1.10");
@@ -82,7 +98,10 @@ fn configuration_is_one_hid_mouse_interface_with_remote_wakeup() {
         assert_eq!(usize::from(le16(hid, 7)), MOUSE_REPORT_DESCRIPTOR.len());
         let ep = &c[27..34];
         assert_eq!((ep[1], ep[2], ep[3]), (5, 0x81, 3), "EP1 IN, interrupt");
-        assert!(usize::from(le16(ep, 4)) >= REPORT_LEN, "a report fits one packet");
+        assert!(
+            usize::from(le16(ep, 4)) >= REPORT_LEN,
+            "a report fits one packet"
+        );
         assert_eq!(ep[6], identity::POLL_MS);
     })
     .expect("enumerates");
@@ -92,10 +111,21 @@ fn configuration_is_one_hid_mouse_interface_with_remote_wakeup() {
 fn strings_read_back() {
     Ctx.with_usb(|mut cls, mut dev| {
         let en = 0x0409;
-        assert_eq!(dev.device_get_string(&mut cls, 1, en).as_deref(), Ok(identity::MANUFACTURER));
-        assert_eq!(dev.device_get_string(&mut cls, 2, en).as_deref(), Ok(identity::PRODUCT));
-        assert_eq!(dev.device_get_string(&mut cls, 3, en).as_deref(), Ok(identity::SERIAL));
-        let langs = dev.device_get_descriptor(&mut cls, 3, 0, 0, 255).expect("languages");
+        assert_eq!(
+            dev.device_get_string(&mut cls, 1, en).as_deref(),
+            Ok(identity::MANUFACTURER)
+        );
+        assert_eq!(
+            dev.device_get_string(&mut cls, 2, en).as_deref(),
+            Ok(identity::PRODUCT)
+        );
+        assert_eq!(
+            dev.device_get_string(&mut cls, 3, en).as_deref(),
+            Ok(identity::SERIAL)
+        );
+        let langs = dev
+            .device_get_descriptor(&mut cls, 3, 0, 0, 255)
+            .expect("languages");
         assert_eq!(langs, [4, 3, 0x09, 0x04]);
     })
     .expect("enumerates");
@@ -128,10 +158,13 @@ fn class_requests_behave_as_usbd_hid_implements_them() {
         let inn = CtrRequestType::to_host().class().interface();
         // SET_IDLE is accepted (and ignored); SET_PROTOCOL(report) is accepted because the
         // class says Mouse; GET_PROTOCOL answers report protocol (1).
-        dev.control_write(&mut cls, out, HID_SET_IDLE, 0, 0, 0, &[]).expect("SET_IDLE");
+        dev.control_write(&mut cls, out, HID_SET_IDLE, 0, 0, 0, &[])
+            .expect("SET_IDLE");
         dev.control_write(&mut cls, out, HID_SET_PROTOCOL, 1, 0, 0, &[])
             .expect("SET_PROTOCOL");
-        let p = dev.control_read(&mut cls, inn, HID_GET_PROTOCOL, 0, 0, 1).expect("GET_PROTOCOL");
+        let p = dev
+            .control_read(&mut cls, inn, HID_GET_PROTOCOL, 0, 0, 1)
+            .expect("GET_PROTOCOL");
         assert_eq!(p, [1]);
         // GET_REPORT and GET_IDLE always stall in usbd-hid 0.10.
         let r = dev.control_read(&mut cls, inn, HID_GET_REPORT, 0x0100, 0, 4);
@@ -163,9 +196,14 @@ fn pushed_reports_arrive_on_ep1_as_the_core_packs_them() {
 #[test]
 fn the_host_may_enable_remote_wakeup() {
     Ctx.with_usb(|mut cls, mut dev| {
-        assert_eq!(dev.device_get_status(&mut cls), Ok(0), "bus powered, wake-up off");
+        assert_eq!(
+            dev.device_get_status(&mut cls),
+            Ok(0),
+            "bus powered, wake-up off"
+        );
         assert!(!dev.usb_dev().remote_wakeup_enabled());
-        dev.device_set_feature(&mut cls, 1).expect("DEVICE_REMOTE_WAKEUP");
+        dev.device_set_feature(&mut cls, 1)
+            .expect("DEVICE_REMOTE_WAKEUP");
         assert!(dev.usb_dev().remote_wakeup_enabled());
         assert_eq!(dev.device_get_status(&mut cls), Ok(2));
         dev.device_clear_feature(&mut cls, 1).expect("clear");

@@ -66,12 +66,7 @@ impl Indicator {
 
     /// What to show, in the module's order of precedence: the USB `link`, whether ADC data
     /// `arrives`, whether the tracker is `tracking`, and its `last` calibration outcome.
-    pub const fn choose(
-        link: Link,
-        arrives: bool,
-        tracking: bool,
-        last: LastCalibration,
-    ) -> Self {
+    pub const fn choose(link: Link, arrives: bool, tracking: bool, last: LastCalibration) -> Self {
         if matches!(link, Link::Suspended) {
             return Self::Suspended;
         }
@@ -123,16 +118,40 @@ mod tests {
         use LastCalibration::*;
         use Link::*;
         // Suspended stays dark whatever else holds.
-        assert_eq!(Indicator::choose(Suspended, false, false, Clipped), Indicator::Suspended);
+        assert_eq!(
+            Indicator::choose(Suspended, false, false, Clipped),
+            Indicator::Suspended
+        );
         // No data outranks the sensor, USB and the phase.
-        assert_eq!(Indicator::choose(Configured, false, true, Fine), Indicator::NoData);
-        assert_eq!(Indicator::choose(NotConfigured, false, false, Clipped), Indicator::NoData);
+        assert_eq!(
+            Indicator::choose(Configured, false, true, Fine),
+            Indicator::NoData
+        );
+        assert_eq!(
+            Indicator::choose(NotConfigured, false, false, Clipped),
+            Indicator::NoData
+        );
         // A rail outranks USB, but only while calibrating.
-        assert_eq!(Indicator::choose(NotConfigured, true, false, Clipped), Indicator::Fault);
-        assert_eq!(Indicator::choose(Configured, true, true, Clipped), Indicator::Tracking);
-        assert_eq!(Indicator::choose(NotConfigured, true, true, Fine), Indicator::NotConfigured);
-        assert_eq!(Indicator::choose(NotConfigured, true, false, Fine), Indicator::NotConfigured);
-        assert_eq!(Indicator::choose(Configured, true, false, Clipped), Indicator::Fault);
+        assert_eq!(
+            Indicator::choose(NotConfigured, true, false, Clipped),
+            Indicator::Fault
+        );
+        assert_eq!(
+            Indicator::choose(Configured, true, true, Clipped),
+            Indicator::Tracking
+        );
+        assert_eq!(
+            Indicator::choose(NotConfigured, true, true, Fine),
+            Indicator::NotConfigured
+        );
+        assert_eq!(
+            Indicator::choose(NotConfigured, true, false, Fine),
+            Indicator::NotConfigured
+        );
+        assert_eq!(
+            Indicator::choose(Configured, true, false, Clipped),
+            Indicator::Fault
+        );
         assert_eq!(
             Indicator::choose(Configured, true, false, Moved { ms: 999 }),
             Indicator::Rejected
@@ -141,7 +160,10 @@ mod tests {
             Indicator::choose(Configured, true, false, Moved { ms: 1000 }),
             Indicator::Calibrating
         );
-        assert_eq!(Indicator::choose(Configured, true, false, Fine), Indicator::Calibrating);
+        assert_eq!(
+            Indicator::choose(Configured, true, false, Fine),
+            Indicator::Calibrating
+        );
     }
 
     #[test]
@@ -158,10 +180,21 @@ mod tests {
     #[test]
     fn every_pattern_differs_from_every_other_over_two_seconds() {
         use Indicator::*;
-        let all = [Calibrating, Rejected, Fault, Tracking, NotConfigured, NoData, Suspended];
+        let all = [
+            Calibrating,
+            Rejected,
+            Fault,
+            Tracking,
+            NotConfigured,
+            NoData,
+            Suspended,
+        ];
         for (i, a) in all.iter().enumerate() {
             for b in &all[i + 1..] {
-                assert!((0..2000).any(|t| a.lit(t) != b.lit(t)), "{a:?} looks like {b:?}");
+                assert!(
+                    (0..2000).any(|t| a.lit(t) != b.lit(t)),
+                    "{a:?} looks like {b:?}"
+                );
             }
         }
     }

@@ -74,7 +74,10 @@ impl Power {
         match self.reference {
             None => self.reference = Some(codes),
             Some(r) => {
-                let far = r.iter().zip(codes).any(|(&r, c)| r.abs_diff(c) > self.motion_lsb);
+                let far = r
+                    .iter()
+                    .zip(codes)
+                    .any(|(&r, c)| r.abs_diff(c) > self.motion_lsb);
                 self.moved |= far;
             }
         }
@@ -129,7 +132,10 @@ mod tests {
 
     fn suspended(p: &mut Power) {
         assert_eq!(p.tick(0, Link::Configured, true, false), PowerAction::None);
-        assert_eq!(p.tick(1, Link::Suspended, true, false), PowerAction::Suspend);
+        assert_eq!(
+            p.tick(1, Link::Suspended, true, false),
+            PowerAction::Suspend
+        );
         assert!(p.suspended());
     }
 
@@ -138,11 +144,20 @@ mod tests {
         let mut p = Power::new(12);
         suspended(&mut p);
         assert_eq!(p.tick(2, Link::Suspended, true, false), PowerAction::None);
-        assert_eq!(p.tick(3, Link::Configured, true, false), PowerAction::Resume);
+        assert_eq!(
+            p.tick(3, Link::Configured, true, false),
+            PowerAction::Resume
+        );
         assert!(!p.suspended());
         // A bus reset during the suspend resumes too (the host re-enumerates).
-        assert_eq!(p.tick(4, Link::Suspended, true, false), PowerAction::Suspend);
-        assert_eq!(p.tick(5, Link::NotConfigured, true, false), PowerAction::Resume);
+        assert_eq!(
+            p.tick(4, Link::Suspended, true, false),
+            PowerAction::Suspend
+        );
+        assert_eq!(
+            p.tick(5, Link::NotConfigured, true, false),
+            PowerAction::Resume
+        );
     }
 
     #[test]
@@ -176,7 +191,13 @@ mod tests {
         p.probe([2048, 2048, 2458]);
         p.probe([2100, 2048, 2458]);
         assert_eq!(p.tick(500, Link::Suspended, true, false), PowerAction::None);
-        assert_eq!(p.tick(1011, Link::Suspended, true, false), PowerAction::Wake);
-        assert_eq!(p.tick(1012, Link::Configured, true, false), PowerAction::Resume);
+        assert_eq!(
+            p.tick(1011, Link::Suspended, true, false),
+            PowerAction::Wake
+        );
+        assert_eq!(
+            p.tick(1012, Link::Configured, true, false),
+            PowerAction::Resume
+        );
     }
 }

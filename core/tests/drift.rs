@@ -485,7 +485,13 @@ fn a_brisk_stroke_that_a_tilted_mount_puts_on_z_is_not_a_lift() {
 #[test]
 fn a_sampling_restart_mid_stroke_stops_the_motion_instead_of_holding_it() {
     for drift in [Some(Drift::default()), None] {
-        let push = |i: usize| if i < 600 { [2078, 2048, 2048] } else { [2048; 3] };
+        let push = |i: usize| {
+            if i < 600 {
+                [2078, 2048, 2048]
+            } else {
+                [2048; 3]
+            }
+        };
         let mut cut = tracker(drift);
         let mut held = tracker(drift);
         let before = run(&mut cut, 600, push)[0];
@@ -498,7 +504,13 @@ fn a_sampling_restart_mid_stroke_stops_the_motion_instead_of_holding_it() {
         // 30 LSB for 0.2 s is 1.4 m/s^2 and 0.28 m/s: 9 counts so far, and a held second
         // would add 0.28 m/s x 1 s + 1.4 m/s^2 x 1 s^2 / 2 = 1 m, tens of thousands of counts.
         assert!(before > 5, "{drift:?}: the push moved {before}");
-        assert!(after_cut.abs() <= 1, "{drift:?}: {after_cut} counts after the restart");
-        assert!(after_held > 10_000, "{drift:?}: the hold moved only {after_held}");
+        assert!(
+            after_cut.abs() <= 1,
+            "{drift:?}: {after_cut} counts after the restart"
+        );
+        assert!(
+            after_held > 10_000,
+            "{drift:?}: the hold moved only {after_held}"
+        );
     }
 }

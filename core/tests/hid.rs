@@ -130,7 +130,9 @@ fn every_count_is_sent_discarded_or_owed() {
     let (mut added_x, mut added_y) = (0i64, 0i64);
     let mut state = 12345u64;
     for i in 0..10_000u32 {
-        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         let dx = ((state >> 33) % 301) as i32 - 150;
         let dy = ((state >> 45) % 41) as i32 - 20;
         r.add_motion(dx, dy);
@@ -150,5 +152,8 @@ fn every_count_is_sent_discarded_or_owed() {
     let (dx, dy) = r.discarded();
     let (ox, oy) = r.undelivered();
     assert_eq!((sx + dx + ox, sy + dy + oy), (added_x, added_y));
-    assert!(dx != 0 && sx != 0, "both paths taken: sent {sx}, discarded {dx}");
+    assert!(
+        dx != 0 && sx != 0,
+        "both paths taken: sent {sx}, discarded {dx}"
+    );
 }

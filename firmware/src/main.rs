@@ -1,12 +1,18 @@
 //! imu-mouse firmware: an ADXL335-class accelerometer on an STM32F411 "Black Pill" as a USB
 //! HID mouse, by exact double integration of acceleration (RTIC 2).
 //!
+//! This crate is the board layer: pins, clocks, ADC, DMA, timers and the RTIC binding. The
+//! application (USB mouse, housekeeping, sample glue) is `imu_app`, the same code that
+//! `cargo lab twin` runs on the host.
+//!
 //! Tasks and priorities (highest first):
-//! - `dma` (3, DMA2_STREAM0): a block of samples is ready every 1 ms; deadline: before the
-//!   next block completes (1 ms at the default 3 kHz), or the DMA overruns and samples are
-//!   lost (counted, not silent). Feeds the tracker, then pends the USB task.
+//! - `dma` (3, DMA2_STREAM0): a block of samples is ready every 1 ms (at rates that are a
+//!   multiple of 1 kHz); deadline: before the next block completes, or the block is counted
+//!   late (`Delivery::Late`) or the DMA overruns (a restart). Feeds the tracker, then pends
+//!   the USB task.
 //! - `usb` (2, OTG_FS): polls the USB stack and pushes the next mouse report.
-//! - `housekeeping` (1, async, every 1 ms): KEY debounce, stall check, LED, logs, watchdog.
+//! - `housekeeping` (1, async, every 1 ms on a running deadline): stall check, KEY, power,
+//!   LED, logs, remote wake-up, watchdog.
 //! - `idle`: sleeps in `wfi`.
 //!
 //! Wiring, clocks and the sampling rate: see `board.rs`.
@@ -14,9 +20,10 @@
 #![no_main]
 
 mod board;
+mod clock;
 mod sampling;
 mod tasks;
-mod usb;
+mod wakeup;
 
 use defmt_rtt as _;
 use panic_probe as _;
@@ -26,44 +33,58 @@ systick_monotonic!(Mono, 1000);
 
 #[rtic::app(device = stm32f4xx_hal::pac, dispatchers = [EXTI1])]
 mod app {
-    use cortex_m::peripheral::DWT;
-    use imu_core::{Debouncer, Event, Reporter, SampleLedger, Tracker};
+    use imu_app::{device, sampling::on_block, Housekeeping, Mouse, Status};
+    use imu_core::{PowerAction, SampleLedger, Tracker};
+    use rtic_monotonics::Monotonic;
     use stm32f4xx_hal::{
         dma::StreamsTuple,
         gpio::{Input, Output, PA0, PC13},
         otg_fs::{UsbBus, UsbBusType, USB},
         pac::{self, Interrupt},
         prelude::*,
-        rcc::Config,
+        rcc::{Clocks, Config},
         watchdog::IndependentWatchdog,
     };
     use usb_device::bus::UsbBusAllocator;
 
-    use rtic_monotonics::Monotonic;
-
     use super::Mono;
     use crate::board::{self, BUF_LEN};
+    use crate::clock::Clock;
     use crate::sampling::{Hardware, Outcome, Pins, Sampler};
-    use crate::tasks::{self, Status};
-    use crate::usb::Mouse;
+    use crate::tasks::{self, Snapshot};
+    use crate::wakeup::RemoteWakeup;
 
     #[shared]
     struct Shared {
         tracker: Tracker,
         sampler: Sampler,
         status: Status,
-        buttons: u8,
-        mouse: Mouse,
-        reporter: Reporter,
+        mouse: Mouse<'static, UsbBusType>,
     }
 
     #[local]
     struct Local {
-        key: PA0<Input>,
-        led: PC13<Output>,
-        debouncer: Debouncer,
+        housekeeping: Housekeeping<PA0<Input>, PC13<Output>>,
+        wakeup: RemoteWakeup,
         watchdog: IndependentWatchdog,
         m_s2_per_lsb: f32,
+    }
+
+    /// The HAL's computed clocks against `board`'s constants: a mismatch stops at boot with
+    /// a message, before anything runs at a wrong rate.
+    fn check_clocks(c: &Clocks) {
+        let want = [
+            (c.sysclk().raw(), board::SYSCLK_HZ),
+            (c.pclk1().raw(), board::PCLK1_HZ),
+            (c.pclk2().raw(), board::PCLK2_HZ),
+            (c.timclk1().raw(), board::TIMER_HZ),
+            (c.pll48clk().map_or(0, |f| f.raw()), board::USB_HZ),
+        ];
+        for (i, (got, want)) in want.into_iter().enumerate() {
+            if got != want {
+                defmt::panic!("clock {} is {} Hz, board.rs says {} Hz", i, got, want);
+            }
+        }
     }
 
     #[init(local = [
@@ -74,28 +95,28 @@ mod app {
         usb_bus: Option<UsbBusAllocator<UsbBusType>> = None,
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
-        let mut core = cx.core;
         let dp: pac::Peripherals = cx.device;
+        // 96 MHz needs regulator scale 1 before the PLL locks (RM0383 5.1.3).
+        dp.RCC.apb1enr().modify(|_, w| w.pwren().set_bit());
+        dp.PWR.cr().modify(|_, w| w.vos().scale1());
         let mut rcc = dp.RCC.freeze(
             Config::hse(board::HSE_HZ.Hz())
                 .sysclk(board::SYSCLK_HZ.Hz())
                 .pclk1(board::PCLK1_HZ.Hz())
+                .pclk2(board::PCLK2_HZ.Hz())
                 .require_pll48clk(),
         );
-        // Keep the debugger (RTT logs) alive while idle sleeps in wfi.
-        dp.DBGMCU.cr().modify(|_, w| w.dbg_sleep().set_bit());
-        core.DCB.enable_trace();
-        core.DWT.enable_cycle_counter();
-        Mono::start(core.SYST, board::SYSCLK_HZ);
+        check_clocks(&rcc.clocks);
+        Mono::start(cx.core.SYST, board::SYSCLK_HZ);
 
-        let config = board::tracker_config();
-        let tracker = match Tracker::new(&config) {
-            Ok(t) => t,
-            Err(e) => defmt::panic!("board::tracker_config() is invalid: {}", e),
+        let config = device::tracker_config(board::FS_HZ);
+        // Every accepted rate builds (app/tests/device.rs); these cannot fail here.
+        let Ok(tracker) = Tracker::new(&config) else {
+            defmt::panic!("tracker configuration (see app/tests/device.rs)")
         };
-        let ledger = match SampleLedger::new(board::SYSCLK_HZ, board::FS_HZ) {
-            Ok(l) => l,
-            Err(e) => defmt::panic!("board::FS_HZ: {}", e),
+        let Ok(ledger) = SampleLedger::new(board::TIMER_HZ, board::FS_HZ, board::BLOCK as u32)
+        else {
+            defmt::panic!("ledger configuration (see app/tests/device.rs)")
         };
         defmt::info!(
             "imu-mouse: fs {} Hz, {} samples per block, calibrating for {} s: keep still",
@@ -106,14 +127,11 @@ mod app {
 
         let gpioa = dp.GPIOA.split(&mut rcc);
         let gpioc = dp.GPIOC.split(&mut rcc);
-        let key = gpioa.pa0.into_pull_up_input();
-        let led = gpioc.pc13.into_push_pull_output();
         let pins = Pins {
             x: gpioa.pa1.into_analog(),
             y: gpioa.pa2.into_analog(),
             z: gpioa.pa3.into_analog(),
         };
-
         let usb = USB {
             usb_global: dp.OTG_FS_GLOBAL,
             usb_device: dp.OTG_FS_DEVICE,
@@ -126,15 +144,15 @@ mod app {
             .local
             .usb_bus
             .insert(UsbBus::new(usb, cx.local.ep_memory));
-        let mouse = match Mouse::new(bus) {
-            Ok(m) => m,
-            Err(_) => defmt::panic!("USB strings in board.rs do not fit the descriptor"),
+        let Ok(mouse) = Mouse::new(bus) else {
+            defmt::panic!("USB identity strings do not fit the descriptor")
         };
 
         let mut watchdog = IndependentWatchdog::new(dp.IWDG);
         watchdog.stop_on_debug(&dp.DBGMCU, true);
         watchdog.start(board::WATCHDOG_MS.millis());
 
+        let clock = Clock::start(dp.TIM5, &mut rcc);
         let streams = StreamsTuple::new(dp.DMA2, &mut rcc);
         let buffers = [cx.local.buf_a, cx.local.buf_b, cx.local.buf_c];
         let hw = Hardware {
@@ -143,36 +161,29 @@ mod app {
             stream: streams.0,
             pins,
         };
-        let sampler = match Sampler::start(hw, buffers, rcc, ledger, board::FS_HZ) {
-            Ok(s) => s,
-            Err(e) => defmt::panic!(
-                "TIM2 cannot run at board::FS_HZ: {}",
-                defmt::Debug2Format(&e)
-            ),
-        };
-
+        let sampler = Sampler::start(hw, buffers, rcc, clock, ledger);
+        let housekeeping = Housekeeping::new(
+            gpioa.pa0.into_pull_up_input(),
+            true,
+            gpioc.pc13.into_push_pull_output(),
+            true,
+            device::TIMING,
+            Mono::now().ticks(),
+        );
         if housekeeping::spawn().is_err() {
             defmt::panic!("housekeeping spawned twice");
         }
+        let wake_lsb = device::wake_motion_lsb(config.m_s2_per_lsb);
         (
             Shared {
                 tracker,
                 sampler,
-                status: Status {
-                    last: Event::Rejected {
-                        axis: 0,
-                        error: imu_core::CalibrationError::Motion { noise_rms_q16: 0 },
-                    },
-                    at_ms: None,
-                },
-                buttons: 0,
+                status: Status::new(wake_lsb),
                 mouse,
-                reporter: Reporter::default(),
             },
             Local {
-                key,
-                led,
-                debouncer: Debouncer::new(board::DEBOUNCE_MS, board::LONG_PRESS_MS),
+                housekeeping,
+                wakeup: RemoteWakeup::default(),
                 watchdog,
                 m_s2_per_lsb: config.m_s2_per_lsb as f32,
             },
@@ -181,60 +192,64 @@ mod app {
 
     /// A DMA block is full. Deadline: the next block (1 ms at 3 kHz).
     #[task(binds = DMA2_STREAM0, priority = 3, shared = [sampler, tracker, status], local = [m_s2_per_lsb])]
-    fn dma(cx: dma::Context) {
-        let now = DWT::cycle_count();
-        let event = (cx.shared.sampler, cx.shared.tracker).lock(|s, t| tasks::on_dma(s, t, now));
-        if let Some(event) = event {
-            tasks::log_event(&event, *cx.local.m_s2_per_lsb);
-            let mut status = cx.shared.status;
-            status.lock(|st| {
-                *st = Status {
-                    last: event,
-                    at_ms: Some(Mono::now().ticks()),
-                }
+    fn dma(mut cx: dma::Context) {
+        let now_ms = Mono::now().ticks();
+        let (mut tracker, mut status) = (cx.shared.tracker, cx.shared.status);
+        let mut event = None;
+        let outcome = cx.shared.sampler.lock(|s| {
+            let outcome = s.on_dma(|block, delivery| {
+                event = on_block(block, delivery, now_ms, &mut tracker, &mut status)
             });
-        }
+            if let Outcome::Restarted(lost) = outcome {
+                tracker.lock(|t| t.restarted(lost)); // under the sampler's lock: in order
+            }
+            outcome
+        });
+        tasks::log_outcome(&outcome, event.as_ref(), *cx.local.m_s2_per_lsb);
         rtic::pend(Interrupt::OTG_FS);
     }
 
     /// The USB peripheral needs service, or the DMA task has fresh motion.
-    #[task(binds = OTG_FS, priority = 2, shared = [tracker, mouse, reporter, buttons])]
+    #[task(binds = OTG_FS, priority = 2, shared = [tracker, mouse])]
     fn usb(mut cx: usb::Context) {
-        let buttons = cx.shared.buttons.lock(|b| *b);
         let counts = cx.shared.tracker.lock(|t| t.take_counts());
-        (cx.shared.mouse, cx.shared.reporter).lock(|m, r| tasks::on_usb(counts, m, r, buttons));
+        cx.shared.mouse.lock(|m| m.service(counts));
     }
 
-    /// Every millisecond: KEY, stalled sampling, LED, logs, watchdog.
-    #[task(priority = 1, shared = [tracker, sampler, status, buttons, mouse, reporter], local = [key, led, debouncer, watchdog])]
+    /// Every millisecond, on a running deadline: stalled sampling, KEY, power, LED, logs,
+    /// remote wake-up, watchdog.
+    #[task(priority = 1, shared = [tracker, sampler, status, mouse], local = [housekeeping, wakeup, watchdog])]
     async fn housekeeping(mut cx: housekeeping::Context) {
+        let mut next = Mono::now();
         loop {
-            Mono::delay(1.millis()).await;
-            let now_ms = Mono::now().ticks();
-            if let Some(ev) = cx.local.debouncer.tick(cx.local.key.is_low()) {
-                (&mut cx.shared.buttons, &mut cx.shared.tracker)
-                    .lock(|b, t| tasks::on_button(ev, b, t));
+            next += 1.millis();
+            Mono::delay_until(next).await;
+            let now_ms = next.ticks();
+            let arrives = tasks::check_stall(&mut cx.shared.sampler, &mut cx.shared.tracker);
+            let sh = &mut cx.shared;
+            let tick = cx.local.housekeeping.tick(
+                now_ms,
+                arrives,
+                &mut sh.tracker,
+                &mut sh.status,
+                &mut sh.mouse,
+            );
+            match tick.power {
+                PowerAction::Suspend => sh.sampler.lock(Sampler::suspend),
+                PowerAction::Resume => sh.sampler.lock(Sampler::resume),
+                PowerAction::Wake => cx.local.wakeup.start(now_ms, &mut sh.mouse),
+                PowerAction::None => {}
             }
-            let stall = cx
-                .shared
-                .sampler
-                .lock(|s| s.check_stall(DWT::cycle_count(), board::STALL_SAMPLES));
-            if let Outcome::Restarted(lost) = stall {
-                cx.shared.tracker.lock(|t| tasks::on_restart(t, lost));
+            cx.local.wakeup.tick(now_ms, &mut sh.mouse);
+            if tick.button.is_some() {
+                rtic::pend(Interrupt::OTG_FS);
             }
-            let configured = cx.shared.mouse.lock(|m| m.configured());
-            let shown = (&mut cx.shared.tracker, &mut cx.shared.status)
-                .lock(|t, st| tasks::indicator(t, st, configured, now_ms));
-            cx.local.led.set_state((!shown.lit(now_ms)).into()); // PC13 LED lights when low
-            if now_ms.is_multiple_of(board::LOG_INTERVAL_MS) {
-                let snapshot = tasks::Snapshot {
-                    tracker: cx.shared.tracker.lock(|t| t.counters()),
-                    restarts: cx.shared.sampler.lock(|s| s.ledger().counters().restarts),
-                    reports: cx.shared.reporter.lock(|r| r.reports()),
-                    drops: cx.shared.mouse.lock(|m| m.drops()),
-                    usb: configured,
-                };
-                tasks::log_counters(&snapshot);
+            if tick.log {
+                tasks::log_counters(&Snapshot::take(
+                    &mut sh.tracker,
+                    &mut sh.sampler,
+                    &mut sh.mouse,
+                ));
             }
             cx.local.watchdog.feed();
         }

@@ -2,18 +2,21 @@
 //! stream 0 moves each scan into one of two buffers and interrupts when a buffer is full.
 //!
 //! # Design
-//! - No software trigger and no per-sample interrupt: TIM2 (TRGO on update, at exactly
-//!   `FS_HZ`) starts each scan; the ADC's continuous bit stays off, or it would free-run.
+//! - No software trigger and no per-sample interrupt: TIM2 (TRGO on update, PSC 0 and the
+//!   ARR of `board`) starts each scan; the ADC's continuous bit stays off, or it would
+//!   free-run. Suspend lowers TIM2 to the probe rate; resume restores it.
 //! - Double buffering with a third, spare buffer: on each transfer-complete interrupt the
 //!   spare goes to the DMA and the full buffer comes back, so the core reads a buffer the
-//!   DMA is not writing.
-//! - Lost samples are never silent. If the interrupt comes too late the DMA reports an
-//!   overrun; if the ADC overruns it stops requesting DMA and blocks stop arriving (caught
-//!   by [`Sampler::check_stall`]). Either way the ADC is reset through the RCC (which clears
-//!   its OVR flag), reconfigured and the transfer restarted, and the samples lost in between
-//!   are counted by the [`SampleLedger`] from the cycle counter and handed to the tracker.
+//!   DMA is not writing. Each buffer given to the DMA is marked unfilled
+//!   (`imu_app::sampling`); one that comes back still marked is dropped.
+//! - Lost samples are never silent. A block taken one block period or more late (the DMA
+//!   overwrote the older buffer) is reported by the ledger as `Delivery::Late`; a DMA
+//!   overrun, or blocks that stop arriving (ADC overrun, or a sampling that never started),
+//!   restart the sampling: ADC reset through the RCC (which clears OVR), reconfigured, the
+//!   DMA stream enabled and only then the ADC, and the samples lost counted from TIM5.
 
-use imu_core::SampleLedger;
+use imu_app::sampling::{filled, mark_unfilled};
+use imu_core::{Delivery, SampleLedger};
 use stm32f4xx_hal::{
     adc::{
         config::{AdcConfig, Dma, ExternalTrigger, Scan, Sequence, TriggerMode},
@@ -21,15 +24,14 @@ use stm32f4xx_hal::{
     },
     dma::{config::DmaConfig, DMAError, PeripheralToMemory, Stream0, Transfer},
     gpio::{Analog, PA1, PA2, PA3},
-    pac::{tim2::cr2::MMS, ADC1, DMA2, TIM2},
-    prelude::*,
-    rcc::{Rcc, Reset},
-    timer::CounterHz,
+    pac::{ADC1, DMA2, TIM2},
+    rcc::{Enable, Rcc, Reset},
 };
 
-use crate::board::{ADC_SAMPLE_TIME, BLOCK, BUF_LEN};
+use crate::board::{ADC_PRESCALER, ADC_SAMPLE_TIME, BUF_LEN, PROBE_ARR, TRIGGER_ARR};
+use crate::clock::Clock;
 
-/// One DMA buffer: [`BLOCK`] scans of X, Y, Z codes.
+/// One DMA buffer: `BLOCK` scans of X, Y, Z codes.
 pub type Buffer = [u16; BUF_LEN];
 type AdcTransfer = Transfer<Stream0<DMA2>, 0, Adc<ADC1>, PeripheralToMemory, &'static mut Buffer>;
 
@@ -59,7 +61,7 @@ pub struct Hardware {
 pub enum Outcome {
     /// A block was handed to the closure.
     Block,
-    /// Nothing to do (not a transfer-complete event).
+    /// Nothing to do (not a transfer-complete event, or an unfilled buffer dropped).
     Idle,
     /// Sampling was restarted; this many sample triples were lost.
     Restarted(u32),
@@ -67,17 +69,18 @@ pub enum Outcome {
 
 /// The sampling pipeline's hardware and its ledger.
 pub struct Sampler {
-    /// Owned so that nothing else reconfigures it; it runs free at fs once started.
-    _trigger: CounterHz<TIM2>,
+    trigger: TIM2,
     transfer: Option<AdcTransfer>,
     spare: Option<&'static mut Buffer>,
     pins: Pins,
     rcc: Rcc,
+    clock: Clock,
     ledger: SampleLedger,
 }
 
 fn adc_config() -> AdcConfig {
     AdcConfig::default()
+        .clock(ADC_PRESCALER)
         .scan(Scan::Enabled)
         .dma(Dma::Continuous)
         .external_trigger(TriggerMode::RisingEdge, ExternalTrigger::Tim_2_trgo)
@@ -96,50 +99,82 @@ fn dma_config() -> DmaConfig {
         .transfer_complete_interrupt(true)
 }
 
+/// The ADC, disabled, configured for the scan.
+fn fresh_adc(adc: &mut Adc<ADC1>, pins: &Pins) {
+    adc.disable();
+    adc.apply_config(adc_config());
+    configure_channels(adc, pins);
+}
+
+/// A transfer into `a` and `b` (marked unfilled), the stream enabled before the ADC so that
+/// the first trigger finds the DMA ready.
+fn armed(
+    stream: Stream0<DMA2>,
+    adc: Adc<ADC1>,
+    a: &'static mut Buffer,
+    b: &'static mut Buffer,
+) -> AdcTransfer {
+    mark_unfilled(a);
+    mark_unfilled(b);
+    let mut t = Transfer::init_peripheral_to_memory(stream, adc, a, Some(b), dma_config());
+    t.start(|adc| adc.enable());
+    t
+}
+
 impl Sampler {
-    /// Sets up ADC1 and DMA2 stream 0, starts the transfer, then starts TIM2 at `fs_hz`,
-    /// whose every update triggers one scan. `buffers` are the two DMA buffers and the spare.
-    ///
-    /// # Errors
-    /// The timer's error if it cannot run at `fs_hz` (the sampling is then not started).
+    /// Sets up ADC1 and DMA2 stream 0, starts the transfer, then TIM2 at the rate of
+    /// `board::TRIGGER_ARR`, whose every update triggers one scan; the ledger's stall check
+    /// runs from here. `buffers` are the two DMA buffers and the spare.
     pub fn start(
         hw: Hardware,
         buffers: [&'static mut Buffer; 3],
         mut rcc: Rcc,
-        ledger: SampleLedger,
-        fs_hz: u32,
-    ) -> Result<Self, stm32f4xx_hal::timer::Error> {
+        clock: Clock,
+        mut ledger: SampleLedger,
+    ) -> Self {
         let mut adc = Adc::new(hw.adc1, true, adc_config(), &mut rcc);
-        configure_channels(&mut adc, &hw.pins);
+        fresh_adc(&mut adc, &hw.pins);
         let [a, b, spare] = buffers;
-        let mut transfer =
-            Transfer::init_peripheral_to_memory(hw.stream, adc, a, Some(b), dma_config());
-        transfer.start(|_| {});
-        let mut trigger = hw.tim2.counter_hz(&mut rcc);
-        trigger.set_master_mode(MMS::Update);
-        trigger.start(fs_hz.Hz())?;
-        Ok(Self {
-            _trigger: trigger,
+        let transfer = armed(hw.stream, adc, a, b);
+        TIM2::enable(&mut rcc);
+        TIM2::reset(&mut rcc);
+        let tim = hw.tim2;
+        tim.psc().write(|w| w.psc().set(0));
+        tim.arr().write(|w| w.arr().set(TRIGGER_ARR));
+        tim.cr2().modify(|_, w| w.mms().update());
+        tim.egr().write(|w| w.ug().set_bit());
+        tim.cr1().modify(|_, w| w.cen().set_bit());
+        ledger.start(clock.now());
+        Self {
+            trigger: tim,
             transfer: Some(transfer),
             spare: Some(spare),
             pins: hw.pins,
             rcc,
+            clock,
             ledger,
-        })
+        }
     }
 
-    /// Handles the DMA interrupt at cycle count `now`: a full block goes to `take` as
-    /// `[x, y, z]` triples; a DMA overrun restarts the sampling.
-    pub fn on_dma(&mut self, now: u32, take: impl FnOnce(&[[u16; 3]])) -> Outcome {
+    /// Handles the DMA interrupt: a full block goes to `take` as `[x, y, z]` triples with
+    /// the ledger's verdict; an unfilled buffer is dropped; a DMA overrun restarts sampling.
+    pub fn on_dma(&mut self, take: impl FnOnce(&[[u16; 3]], Delivery)) -> Outcome {
+        let now = self.clock.now();
         let (Some(transfer), Some(spare)) = (self.transfer.as_mut(), self.spare.take()) else {
             return self.restart(now);
         };
+        mark_unfilled(spare);
         match transfer.next_transfer(spare) {
-            Ok((full, _)) => {
-                take(full.as_chunks::<3>().0);
+            Ok((full, _)) if filled(full) => {
+                let delivery = self.ledger.block(now);
+                take(full.as_chunks::<3>().0, delivery);
                 self.spare = Some(full);
-                self.ledger.block(now, BLOCK as u32);
                 Outcome::Block
+            }
+            Ok((unfilled, _)) => {
+                self.ledger.unfilled();
+                self.spare = Some(unfilled);
+                Outcome::Idle
             }
             Err(DMAError::NotReady(spare)) => {
                 self.spare = Some(spare);
@@ -152,8 +187,10 @@ impl Sampler {
         }
     }
 
-    /// Restarts the sampling if no block has arrived for `max_samples` sample periods.
-    pub fn check_stall(&mut self, now: u32, max_samples: u32) -> Outcome {
+    /// Restarts the sampling if no block has arrived for `max_samples` sample periods (or
+    /// none since the start or the last restart).
+    pub fn check_stall(&mut self, max_samples: u32) -> Outcome {
+        let now = self.clock.now();
         if self.ledger.stalled(now, max_samples) {
             self.restart(now)
         } else {
@@ -161,9 +198,31 @@ impl Sampler {
         }
     }
 
+    /// Whether blocks arrive (a block since the last start or restart).
+    pub fn delivering(&self) -> bool {
+        self.ledger.delivering() || !self.ledger.running()
+    }
+
+    /// USB suspend: TIM2 at the probe rate; the ledger pauses (no stall, nothing lost).
+    pub fn suspend(&mut self) {
+        self.ledger.pause();
+        self.set_rate(PROBE_ARR);
+    }
+
+    /// USB resume: TIM2 back at `FS_HZ`; the ledger counts from now.
+    pub fn resume(&mut self) {
+        self.set_rate(TRIGGER_ARR);
+        self.ledger.start(self.clock.now());
+    }
+
     /// The ledger's totals.
     pub fn ledger(&self) -> &SampleLedger {
         &self.ledger
+    }
+
+    fn set_rate(&mut self, arr: u32) {
+        self.trigger.arr().write(|w| w.arr().set(arr));
+        self.trigger.egr().write(|w| w.ug().set_bit());
     }
 
     fn restart(&mut self, now: u32) -> Outcome {
@@ -171,14 +230,11 @@ impl Sampler {
             let (stream, mut adc, a, b) = transfer.release();
             // A full ADC reset is the one way the HAL offers to clear OVR.
             <ADC1 as Reset>::reset(&mut self.rcc);
-            adc.apply_config(adc_config());
-            configure_channels(&mut adc, &self.pins);
-            adc.enable();
+            fresh_adc(&mut adc, &self.pins);
+            // A double-buffered transfer always returns its second buffer; without one the
+            // sampling stays stopped and the stall check keeps reporting no data.
             if let Some(b) = b {
-                let mut t =
-                    Transfer::init_peripheral_to_memory(stream, adc, a, Some(b), dma_config());
-                t.start(|_| {});
-                self.transfer = Some(t);
+                self.transfer = Some(armed(stream, adc, a, b));
             }
         }
         Outcome::Restarted(self.ledger.restart(now))
