@@ -4,6 +4,7 @@
 pub mod allan;
 pub mod budget;
 pub mod columns;
+pub mod device_twin;
 pub mod drift;
 pub mod hid;
 pub mod montecarlo;
@@ -20,3 +21,4 @@ pub mod speed;
 pub mod stats;
 pub mod track;
 pub mod twin;
+pub mod usbip;

@@ -470,3 +470,23 @@ pub fn path_svg(strokes: usize, seed: u64) -> String {
         poly(&on_pts)
     )
 }
+
+/// The desk scene as the device's inputs: ADC codes `[x, y, z]` at 3 kHz and whether the
+/// finger holds the button at each sample (the device's debounce adds its own delay). With
+/// `strokes == 0` the hand rests (after the same 1.5 s of calibration and rest).
+pub fn desk_stream(strokes: usize, seed: u64) -> (Vec<[u16; 3]>, Vec<bool>) {
+    let mut rng = sim::rng(seed ^ 0xA11CE);
+    let p = plan(strokes, &mut rng);
+    let mut rng = sim::rng(seed);
+    let mut sensor = Sensor::new(&mut rng);
+    let codes = (0..p.n)
+        .map(|i| {
+            let (ax, ay) = hand(&p, i);
+            sensor.codes([ax, ay, 0.0], [0.0; 3], &mut rng)
+        })
+        .collect();
+    let held = (0..p.n)
+        .map(|i| p.clicks.iter().any(|c| (c.press..c.release).contains(&i)))
+        .collect();
+    (codes, held)
+}

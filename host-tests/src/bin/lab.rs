@@ -4,8 +4,8 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use host_tests::{
-    allan, budget, columns, drift, hid, mouse, plot, pointing, predict, recording, reproduce,
-    scene, speed, track,
+    allan, budget, columns, device_twin, drift, hid, mouse, plot, pointing, predict, recording,
+    reproduce, scene, speed, track,
 };
 
 #[derive(Parser)]
@@ -40,6 +40,37 @@ enum Command {
     Allan(AllanArgs),
     /// The paper's experiment on a recording: calibrate, integrate, RMS over segments.
     Drift(DriftArgs),
+    /// The firmware's app as a USB/IP mouse on this host, fed in real time by a scene or a
+    /// recording (`usbip attach -r 127.0.0.1 -b 1-1` makes it a mouse of a Linux desktop).
+    Twin(TwinArgs),
+}
+
+#[derive(Args)]
+struct TwinArgs {
+    /// The scene: `desk` (strokes, rests and clicks) or `rest` (the hand still).
+    #[arg(long, default_value = "desk", conflicts_with = "replay")]
+    scene: String,
+    /// Play a recording (CSV of ADC codes, as `cargo lab replay`) instead of a scene.
+    #[arg(long)]
+    replay: Option<std::path::PathBuf>,
+    /// Play at most this long [s] (default: the whole scene or recording).
+    #[arg(long)]
+    seconds: Option<f64>,
+    /// Strokes in the desk scene.
+    #[arg(long, default_value_t = 20)]
+    strokes: usize,
+    /// Seed of the scene.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// USB/IP address to listen on.
+    #[arg(long, default_value = "127.0.0.1:3240")]
+    addr: std::net::SocketAddr,
+    /// How long to wait for a host to configure the device [s].
+    #[arg(long, default_value_t = 60.0)]
+    wait_host: f64,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Args, Clone)]
@@ -260,6 +291,7 @@ fn main() -> ExitCode {
         Command::Mouse(a) => run_mouse(&a),
         Command::Allan(a) => run_allan(&a.rec).map(|x| x.0),
         Command::Drift(a) => run_drift(&a),
+        Command::Twin(a) => run_twin(&a),
     };
     match result {
         Ok(text) => {
@@ -427,6 +459,86 @@ fn run_speed(a: &SpeedArgs) -> Result<String, String> {
         return Err("target and host checksums differ".into());
     }
     Ok(text)
+}
+
+fn run_twin(a: &TwinArgs) -> Result<String, String> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let mut input = match &a.replay {
+        Some(file) => {
+            let text =
+                std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+            let rec =
+                recording::parse(&text, None).map_err(|e| format!("{}: {e}", file.display()))?;
+            device_twin::Input {
+                fs_hz: rec.fs,
+                codes: rec.samples,
+                held: Vec::new(),
+            }
+        }
+        None => {
+            let strokes = match a.scene.as_str() {
+                "desk" => a.strokes,
+                "rest" => 0,
+                other => return Err(format!("--scene {other}: `desk` or `rest`")),
+            };
+            let (codes, held) = mouse::desk_stream(strokes, a.seed);
+            device_twin::Input {
+                fs_hz: 3000,
+                codes,
+                held,
+            }
+        }
+    };
+    if let Some(s) = a.seconds {
+        positive("seconds", s)?;
+        let n = (s * f64::from(input.fs_hz)) as usize;
+        input.codes.truncate(n);
+        input.held.truncate(n);
+    }
+    positive("wait-host", a.wait_host)?;
+    // KEY from standard input: `press` and `release` lines.
+    let operator = Arc::new(AtomicBool::new(false));
+    let key = operator.clone();
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lines().map_while(Result::ok) {
+            match line.trim() {
+                "press" => key.store(true, Ordering::Relaxed),
+                "release" => key.store(false, Ordering::Relaxed),
+                _ => {}
+            }
+        }
+    });
+    eprintln!(
+        "twin: USB/IP device on {} (bus id 1-1); waiting for a host",
+        a.addr
+    );
+    let settings = device_twin::Settings {
+        addr: a.addr,
+        wait_host_s: a.wait_host,
+        drain_s: 2.0,
+    };
+    let s = device_twin::run(&input, settings, operator).map_err(|e| e.to_string())?;
+    if a.json {
+        return serde_json::to_string(&s).map_err(|e| e.to_string());
+    }
+    Ok(format!(
+        "twin: {:.1} s at {} Hz, {} reports (peak {} per s), {} URBs, {} stalls\n\
+         counts (x, y): produced {:?}, sent {:?}, discarded {:?}, owed {:?}; accounted: {}\n\
+         late housekeeping ticks: {}",
+        s.scene_s,
+        s.fs_hz,
+        s.reports,
+        s.peak_report_rate_hz,
+        s.urbs,
+        s.stalls,
+        s.produced,
+        s.sent,
+        s.discarded,
+        s.undelivered,
+        s.accounted,
+        s.late_ticks
+    ))
 }
 
 fn run_mouse(a: &MouseArgs) -> Result<String, String> {

@@ -1,0 +1,295 @@
+//! `cargo lab twin`: the firmware's application (`imu_app`) and the core, unchanged, run on
+//! the host in real time as a USB/IP device ([`crate::usbip`]), fed by a scene or a
+//! recording instead of the ADC.
+//!
+//! # Design
+//! One loop plays the RTIC tasks in the firmware's order, once a millisecond on a running
+//! deadline: the DMA task (one block of `imu_app::device::block_len(fs)` samples through
+//! `imu_app::sampling::on_block`), the USB task (`Mouse::service` with the tracker's fresh
+//! counts), the housekeeping tick (`Housekeeping::tick` over `rtic_core::Exclusive`
+//! resources). Between ticks the USB stack is polled every 250 us, as the OTG interrupt
+//! would be. KEY follows the scene's finger, or `press` / `release` lines on standard input.
+//! The scene starts when a host has configured the device; after it ends the twin keeps
+//! serving until every count is delivered (or the drain time passes), then reports.
+//!
+//! What the twin cannot show: USB electrical behaviour, suspend (USB/IP has none), the
+//! ADC, DMA and timers (the board layer), timing under interrupt load.
+
+use std::net::SocketAddr;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use embedded_hal::digital::{ErrorType, InputPin, OutputPin};
+use imu_app::{device, identity, sampling::on_block, Housekeeping, Mouse, Status};
+use imu_core::{hid::screen_motion, Delivery, Link, Tracker};
+use rtic_core::Exclusive;
+use serde::Serialize;
+use usb_device::bus::UsbBusAllocator;
+
+use crate::usbip::{Listing, Traffic, UsbIpBus};
+
+/// The device's inputs: ADC codes and the finger on KEY, sample by sample.
+#[derive(Clone, Debug)]
+pub struct Input {
+    /// Sampling rate [Hz] (must be accepted by `imu_app::device::rate_accepted`).
+    pub fs_hz: u32,
+    /// `[x, y, z]` codes.
+    pub codes: Vec<[u16; 3]>,
+    /// Whether the finger holds KEY at each sample (empty: never).
+    pub held: Vec<bool>,
+}
+
+/// How the twin runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// The USB/IP address to listen on (the protocol's port is 3240).
+    pub addr: SocketAddr,
+    /// How long to wait for a host to configure the device [s].
+    pub wait_host_s: f64,
+    /// How long to keep serving after the scene so that owed counts reach the host [s].
+    pub drain_s: f64,
+}
+
+/// Why the twin could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum TwinError {
+    /// The USB/IP port could not be bound.
+    #[error("cannot listen on {addr}: {source}")]
+    Listen {
+        /// The address.
+        addr: SocketAddr,
+        /// The socket error.
+        source: std::io::Error,
+    },
+    /// The sampling rate is not one the device accepts.
+    #[error("fs {0} Hz: the device accepts 100..=20000 Hz dividing 96 MHz")]
+    Rate(u32),
+    /// The device could not be built (a configuration error).
+    #[error("device: {0}")]
+    Device(String),
+    /// No host configured the device in time.
+    #[error("no USB/IP host configured the device within {0} s")]
+    NoHost(f64),
+}
+
+/// What the twin did, for the host-side check.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// Sampling rate [Hz].
+    pub fs_hz: u32,
+    /// Scene length played [s].
+    pub scene_s: f64,
+    /// Counts the tracker produced, `[x, y]` on screen (right, down).
+    pub produced: [i64; 2],
+    /// Counts in reports the USB stack accepted.
+    pub sent: [i64; 2],
+    /// Counts dropped while the host was not listening.
+    pub discarded: [i64; 2],
+    /// Counts still owed at the end.
+    pub undelivered: [i64; 2],
+    /// Reports accepted by the USB stack.
+    pub reports: u32,
+    /// Most reports in any 1 s of the run [1/s].
+    pub peak_report_rate_hz: u32,
+    /// USB/IP traffic.
+    pub imports: u32,
+    /// URBs completed.
+    pub urbs: u64,
+    /// Control requests answered with a stall.
+    pub stalls: u32,
+    /// Interrupt IN packets delivered.
+    pub in_packets: u64,
+    /// Housekeeping ticks that started more than 1 ms late (the host's scheduler).
+    pub late_ticks: u32,
+    /// Whether every produced count is sent, discarded or owed.
+    pub accounted: bool,
+}
+
+/// KEY of the twin: the scene's finger, or the operator's.
+struct Key {
+    scene: Arc<AtomicBool>,
+    operator: Arc<AtomicBool>,
+}
+
+impl ErrorType for Key {
+    type Error = core::convert::Infallible;
+}
+
+impl InputPin for Key {
+    fn is_high(&mut self) -> Result<bool, Self::Error> {
+        Ok(self.scene.load(Ordering::Relaxed) || self.operator.load(Ordering::Relaxed))
+    }
+    fn is_low(&mut self) -> Result<bool, Self::Error> {
+        self.is_high().map(|h| !h)
+    }
+}
+
+/// The LED of the twin: its state is kept, nothing shows it.
+#[derive(Default)]
+struct Led(bool);
+
+impl ErrorType for Led {
+    type Error = core::convert::Infallible;
+}
+
+impl OutputPin for Led {
+    fn set_low(&mut self) -> Result<(), Self::Error> {
+        self.0 = false;
+        Ok(())
+    }
+    fn set_high(&mut self) -> Result<(), Self::Error> {
+        self.0 = true;
+        Ok(())
+    }
+}
+
+fn listing() -> Listing {
+    Listing {
+        vid_pid: identity::VID_PID,
+        release_bcd: identity::RELEASE_BCD,
+        interface: (3, 0, 2),
+    }
+}
+
+/// Polls the USB stack until `deadline`, every 250 us.
+fn serve_until(mouse: &mut Mouse<'_, UsbIpBus>, deadline: Instant) {
+    loop {
+        mouse.service([0; 3]);
+        let now = Instant::now();
+        if now >= deadline {
+            return;
+        }
+        std::thread::sleep((deadline - now).min(Duration::from_micros(250)));
+    }
+}
+
+/// Runs the twin on `input`; `operator` is KEY as pressed from standard input.
+///
+/// # Errors
+/// [`TwinError`]: the port, the rate, the device, or no host.
+pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summary, TwinError> {
+    if !device::rate_accepted(input.fs_hz, 96_000_000) {
+        return Err(TwinError::Rate(input.fs_hz));
+    }
+    let bus = UsbIpBus::new(s.addr, listing()).map_err(|source| TwinError::Listen {
+        addr: s.addr,
+        source,
+    })?;
+    let monitor = bus.monitor();
+    let bus = UsbBusAllocator::new(bus);
+    let mut mouse = Mouse::new(&bus).map_err(|e| TwinError::Device(format!("{e:?}")))?;
+    let config = device::tracker_config(input.fs_hz);
+    let mut tracker = Tracker::new(&config).map_err(|e| TwinError::Device(e.to_string()))?;
+    let mut status = Status::new(device::wake_motion_lsb(config.m_s2_per_lsb));
+    let scene_key = Arc::new(AtomicBool::new(false));
+    let key = Key {
+        scene: scene_key.clone(),
+        operator,
+    };
+    let mut hk = Housekeeping::new(key, false, Led::default(), false, device::TIMING, 0);
+
+    let waited = Instant::now();
+    while mouse.link() != Link::Configured {
+        if waited.elapsed().as_secs_f64() > s.wait_host_s {
+            return Err(TwinError::NoHost(s.wait_host_s));
+        }
+        serve_until(&mut mouse, Instant::now() + Duration::from_millis(1));
+    }
+
+    let block = device::block_len(input.fs_hz);
+    let blocks = input.codes.len() / block;
+    let tick = Duration::from_millis(1);
+    let (mut produced, mut per_ms) = ([0i64; 2], Vec::with_capacity(blocks));
+    let mut late_ticks = 0u32;
+    let mut next = Instant::now();
+    let mut drain_left = (s.drain_s * 1000.0) as u32;
+    let mut ms = 0u32;
+    loop {
+        let k = ms as usize;
+        if k < blocks {
+            let chunk = &input.codes[k * block..(k + 1) * block];
+            scene_key.store(
+                input.held.get(k * block).copied().unwrap_or(false),
+                Ordering::Relaxed,
+            );
+            on_block(
+                chunk,
+                Delivery::OnTime,
+                ms,
+                &mut Exclusive(&mut tracker),
+                &mut Exclusive(&mut status),
+            );
+        } else {
+            scene_key.store(false, Ordering::Relaxed);
+            let owed = mouse.pending() || monitor.in_flight();
+            if drain_left == 0 || (!owed && mouse.link() == Link::Configured) {
+                break;
+            }
+            drain_left -= 1;
+        }
+        let counts = tracker.take_counts();
+        let (dx, dy) = screen_motion(counts);
+        produced[0] += i64::from(dx);
+        produced[1] += i64::from(dy);
+        let before = mouse.reports();
+        mouse.service(counts);
+        hk.tick(
+            ms,
+            true,
+            &mut Exclusive(&mut tracker),
+            &mut Exclusive(&mut status),
+            &mut Exclusive(&mut mouse),
+        );
+        next += tick;
+        if Instant::now() > next + tick {
+            late_ticks += 1;
+        }
+        serve_until(&mut mouse, next);
+        per_ms.push(mouse.reports().wrapping_sub(before));
+        ms += 1;
+    }
+    Ok(summary(
+        input,
+        &mouse,
+        monitor.traffic(),
+        produced,
+        &per_ms,
+        late_ticks,
+        blocks,
+    ))
+}
+
+fn summary(
+    input: &Input,
+    mouse: &Mouse<'_, UsbIpBus>,
+    t: Traffic,
+    produced: [i64; 2],
+    per_ms: &[u32],
+    late_ticks: u32,
+    blocks: usize,
+) -> Summary {
+    let (sent, discarded, owed) = (mouse.sent_total(), mouse.discarded(), mouse.undelivered());
+    let peak = per_ms
+        .windows(1000.min(per_ms.len()).max(1))
+        .map(|w| w.iter().sum::<u32>())
+        .max()
+        .unwrap_or(0);
+    Summary {
+        fs_hz: input.fs_hz,
+        scene_s: (blocks * device::block_len(input.fs_hz)) as f64 / f64::from(input.fs_hz),
+        produced,
+        sent: [sent.0, sent.1],
+        discarded: [discarded.0, discarded.1],
+        undelivered: [owed.0, owed.1],
+        reports: mouse.reports(),
+        peak_report_rate_hz: peak,
+        imports: t.imports,
+        urbs: t.urbs,
+        stalls: t.stalls,
+        in_packets: t.in_packets,
+        late_ticks,
+        accounted: sent.0 + discarded.0 + owed.0 == produced[0]
+            && sent.1 + discarded.1 + owed.1 == produced[1],
+    }
+}

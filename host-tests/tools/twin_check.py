@@ -1,0 +1,187 @@
+"""CI check of the device twin with a third-party USB host: PyPI `usbip` (a user-space USB/IP
+host) enumerates `cargo lab twin`, fetches the report descriptor and parses it with
+hid-tools, reads reports until the scene ends, and checks that their decoded sum equals the
+device's own count total exactly; it pauses 300 ms mid-scene (nothing may be lost), and
+disconnects and reconnects while KEY is held (a bus reset: the button must be re-sent).
+
+Usage: twin_check.py LAB_BINARY [--seconds S]   (exit status 1 on any failed check)
+"""
+import json
+import socket
+import subprocess
+import sys
+import time
+
+import usbip
+from usbip.classes.host.hid import HIDDriver
+from usbip.transport import USBIP
+from hidtools.hid import ReportDescriptor
+
+VID_PID = (0x1209, 0x0001)
+TIMEOUT_S = 30.0  # a URB may stay pending (NAK) through a long rest
+
+
+def fail(msg):
+    print(f"twin_check: FAIL: {msg}", file=sys.stderr)
+    sys.exit(1)
+
+
+class Transport(USBIP):
+    """The library's transport with a socket timeout (it sets none of its own)."""
+
+    def connect(self):
+        sock = super().connect()
+        sock.settimeout(TIMEOUT_S)
+        return sock
+
+
+def wait_for_server(transport, deadline):
+    while time.monotonic() < deadline:
+        try:
+            return usbip.host.list_devices(transport)
+        except OSError:
+            time.sleep(0.1)
+    fail("the twin did not listen on 127.0.0.1:3240")
+
+
+def decoder(rdesc_bytes):
+    """The parsed descriptor's fields for buttons and X, Y (hid-tools, not our own parser)."""
+    rd = ReportDescriptor.from_bytes(list(rdesc_bytes))
+    report = rd.get(0, 4)
+    if report is None or report.size != 4:
+        fail(f"report descriptor does not describe one 4-byte input report: {rd.input_reports}")
+    names = set()
+    for f in report.fields:
+        names.update(f.get_usage_name(i) or f.usage_name for i in range(f.count))
+    if not {"X", "Y"} <= names:
+        fail(f"descriptor fields {sorted(names)} lack X and Y")
+
+    def decode(data):
+        values = {"buttons": 0}
+        for f in report.fields:
+            if f.is_const:
+                continue
+            for i, v in enumerate(f.get_values(list(data))):
+                name = f.get_usage_name(i) or f.usage_name
+                if name in ("X", "Y", "Wheel"):
+                    values[name] = v
+                elif f.usage_page_name == "Button":
+                    values["buttons"] |= (v & 1) << i
+        return values
+
+    return decode
+
+
+def read_until_closed(drv, decode, on_report):
+    """Reads interrupt IN reports until the device closes the connection."""
+    while True:
+        try:
+            data = drv.read_report()
+        except (OSError, usbip.core.USBError, ConnectionError):
+            return
+        if not data:
+            return
+        if on_report(decode(data)) is False:
+            return
+
+
+def main():
+    lab = sys.argv[1]
+    seconds = sys.argv[sys.argv.index("--seconds") + 1] if "--seconds" in sys.argv else "14"
+    twin = subprocess.Popen(
+        [lab, "twin", "--scene", "desk", "--seconds", seconds, "--json", "--wait-host", "60"],
+        stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+    transport = Transport("127.0.0.1", 3240)
+    try:
+        devices = wait_for_server(transport, time.monotonic() + 30)
+        listed = [(d["busid"], d["idVendor"], d["idProduct"]) for d in devices]
+        if ("1-1", *VID_PID) not in listed:
+            fail(f"device list {listed} lacks 1-1 {VID_PID[0]:04x}:{VID_PID[1]:04x}")
+
+        drv = HIDDriver(usbip.open(*VID_PID, busid="1-1", transport=transport))
+        h = drv.handle
+        dd = h.device_descriptor
+        rdesc = drv.report_descriptor()
+        decode = decoder(rdesc)
+        # The HID class requests as usbd-hid implements them: SET_IDLE accepted, GET_IDLE
+        # stalled (a STALL must come back as one, not as silence).
+        drv.set_idle(0)
+        try:
+            drv.get_idle()
+            fail("GET_IDLE answered; usbd-hid 0.10 stalls it")
+        except usbip.Stall:
+            pass
+        if drv.get_protocol() != 1:
+            fail("GET_PROTOCOL is not report protocol")
+        print(f"twin_check: enumerated {dd}, report descriptor {len(rdesc)} bytes parsed by hid-tools")
+
+        total = {"x": 0, "y": 0, "n": 0}
+        stamps = []
+        state = {"paused": False, "t0": time.monotonic(), "limit_s": 5.0}
+
+        def count(v):
+            total["x"] += v.get("X", 0)
+            total["y"] += v.get("Y", 0)
+            total["n"] += 1
+            stamps.append(time.monotonic())
+            # Pause the host once, mid-scene, while the mouse moves.
+            if not state["paused"] and total["n"] >= 40:
+                state["paused"] = True
+                time.sleep(0.3)
+            # Then stop reading to test the reset with KEY held.
+            return time.monotonic() - state["t0"] < state["limit_s"]
+
+        read_until_closed(drv, decode, count)
+        if not state["paused"]:
+            fail(f"only {total['n']} reports in the first 5 s: the mouse did not move")
+
+        # KEY held, then a disconnect and reconnect (a bus reset): the button comes again.
+        twin.stdin.write("press\n")
+        twin.stdin.flush()
+        while True:
+            v = decode(drv.read_report())
+            total["x"] += v.get("X", 0)
+            total["y"] += v.get("Y", 0)
+            total["n"] += 1
+            if v.get("buttons", 0) & 1:
+                break
+        drv.close()
+        drv = HIDDriver(usbip.open(*VID_PID, busid="1-1", transport=transport))
+        v = decode(drv.read_report())
+        total["x"] += v.get("X", 0)
+        total["y"] += v.get("Y", 0)
+        total["n"] += 1
+        if not v.get("buttons", 0) & 1:
+            fail(f"after the reset the first report {v} does not carry the held button")
+        twin.stdin.write("release\n")
+        twin.stdin.flush()
+        print("twin_check: held button re-sent after a disconnect and reconnect")
+
+        state["limit_s"] = float("inf")
+        read_until_closed(drv, decode, count)
+        out, _ = twin.communicate(timeout=TIMEOUT_S)
+    finally:
+        if twin.poll() is None:
+            twin.kill()
+    if twin.returncode != 0:
+        fail(f"the twin exited with {twin.returncode}")
+    s = json.loads(out.strip().splitlines()[-1])
+    got = [total["x"], total["y"]]
+    print(f"twin_check: host decoded {total['n']} reports summing to {got}; "
+          f"the device sent {s['reports']} reports summing to {s['sent']}")
+    if got != s["sent"] or total["n"] != s["reports"]:
+        fail("the host's sum differs from the device's")
+    if not s["accounted"]:
+        fail(f"the device's counts do not add up: {s}")
+    if s["sent"] == [0, 0]:
+        fail("no motion was delivered")
+    window = [b - a for a, b in zip(stamps, stamps[1:]) if b - a < 0.1]
+    rate = len(window) / sum(window) if window else 0.0
+    print(f"twin_check: report rate while moving {rate:.0f} per s (device peak "
+          f"{s['peak_report_rate_hz']} per s); {s['urbs']} URBs, {s['stalls']} stalls, "
+          f"{s['imports']} imports, {s['late_ticks']} late ticks")
+    print("twin_check: ok")
+
+
+if __name__ == "__main__":
+    main()
