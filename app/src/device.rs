@@ -8,7 +8,7 @@
 //! tracker at every accepted rate: a board configuration that would fail at boot fails the
 //! build or the tests instead.
 
-use imu_core::{Config, Drift, Scheme};
+use imu_core::Config;
 
 use crate::housekeeping::Timing;
 
@@ -34,19 +34,13 @@ pub const fn block_len(fs_hz: u32) -> usize {
     }
 }
 
-/// The tracker's configuration at `fs_hz` [Hz]: an ADXL335 (300 mV/g at 3.3 V, ratiometric)
-/// on a 12-bit ADC, 800 counts per inch, drift control on (REFERENCE (g)).
+/// The tracker's configuration at `fs_hz` [Hz]: the core's default for this device (an
+/// ADXL335, 300 mV/g at 3.3 V, ratiometric, on a 12-bit ADC, 800 counts per inch, drift
+/// control on; REFERENCE (g)) at that rate.
 pub fn tracker_config(fs_hz: u32) -> Config {
     Config {
         fs_hz,
-        lowpass_fc_hz: None,
-        m_s2_per_lsb: 9.806_65 * 10.0 / 4096.0,
-        adc_bits: 12,
-        counts_per_inch: 800,
-        scheme: Scheme::Euler,
-        calibration_s: 1.0,
-        rest_noise_max_m_s2: 0.1,
-        drift: Some(Drift::default()),
+        ..Config::default()
     }
 }
 

@@ -457,13 +457,7 @@ impl Inner {
         p.truncate(u.len as usize);
         self.in_complete |= 1 << ep;
         self.traffic.in_packets += 1;
-        let seq = u.seqnum;
-        if p.is_empty() {
-            // A zero-length packet: status 0, no data.
-            self.ret_submit(seq, 0, &[], 0);
-        } else {
-            self.ret_submit(seq, 0, &p, 0);
-        }
+        self.ret_submit(u.seqnum, 0, &p, 0);
     }
 
     fn write_ep0(&mut self, buf: &[u8]) {

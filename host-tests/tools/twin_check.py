@@ -119,10 +119,14 @@ def main():
         stamps = []
         state = {"paused": False, "t0": time.monotonic(), "limit_s": 5.0}
 
-        def count(v):
+        def add(v):
             total["x"] += v.get("X", 0)
             total["y"] += v.get("Y", 0)
             total["n"] += 1
+            return v
+
+        def count(v):
+            add(v)
             stamps.append(time.monotonic())
             # Pause the host once, mid-scene, while the mouse moves.
             if not state["paused"] and total["n"] >= 40:
@@ -139,18 +143,11 @@ def main():
         twin.stdin.write("press\n")
         twin.stdin.flush()
         while True:
-            v = decode(drv.read_report())
-            total["x"] += v.get("X", 0)
-            total["y"] += v.get("Y", 0)
-            total["n"] += 1
-            if v.get("buttons", 0) & 1:
+            if add(decode(drv.read_report())).get("buttons", 0) & 1:
                 break
         drv.close()
         drv = HIDDriver(usbip.open(*VID_PID, busid="1-1", transport=transport))
-        v = decode(drv.read_report())
-        total["x"] += v.get("X", 0)
-        total["y"] += v.get("Y", 0)
-        total["n"] += 1
+        v = add(decode(drv.read_report()))
         if not v.get("buttons", 0) & 1:
             fail(f"after the reset the first report {v} does not carry the held button")
         twin.stdin.write("release\n")
