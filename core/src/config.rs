@@ -20,8 +20,9 @@ pub const FS_MIN_HZ: u32 = 1;
 /// Highest accepted sampling rate [Hz]. Up to this rate a full-scale 12-bit input integrates
 /// for 24 h without saturating (see [`crate::integrator`]).
 pub const FS_MAX_HZ: u32 = 100_000;
-/// Lowest accepted low-pass cut-off as a fraction of the sampling rate, `fc / fs`.
-pub const FC_OVER_FS_MIN: f64 = 1e-6;
+/// Lowest accepted low-pass cut-off as a fraction of the sampling rate, `fc / fs`
+/// (the filter's own limit).
+pub use crate::lowpass::FC_OVER_FS_MIN;
 /// Fewest samples a calibration window may hold.
 pub const CALIBRATION_SAMPLES_MIN: u32 = 16;
 /// Most samples a calibration window may hold (`2^24`: sums of squared 16-bit codes stay

@@ -16,7 +16,8 @@
 //! and tracking. The device's other logic lives here too, so that it is tested on the host:
 //! [`hid`] (report descriptor, packing and scheduling), [`button`] (debounce, long press),
 //! [`ledger`] (lost-sample accounting), [`indicator`] (LED patterns) and [`power`] (USB
-//! suspend and remote wake-up). The physics and every error formula are in the project's REFERENCE.md
+//! suspend and remote wake-up). [`bench`] holds what `cargo lab speed` measures and is not
+//! part of the device. The physics and every error formula are in the project's REFERENCE.md
 //! (Thong et al., Meas. Sci. Technol. 13 (2002) 1163).
 //!
 //! # Fixed-point formats
@@ -28,22 +29,20 @@
 #![forbid(unsafe_code)]
 
 pub mod axis;
+pub mod bench;
 pub mod button;
 pub mod calibration;
 pub mod config;
 pub mod hid;
 pub mod indicator;
 pub mod integrator;
-pub mod kernels;
 pub mod ledger;
 pub mod lowpass;
 mod math;
 pub mod power;
 pub mod readout;
 pub mod stillness;
-pub mod testsignal;
 pub mod tracker;
-pub mod variants;
 
 pub use axis::Axis;
 pub use button::{ButtonEvent, Debouncer};

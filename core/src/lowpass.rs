@@ -25,6 +25,10 @@
 use crate::math;
 use crate::AdcCode;
 
+/// Lowest accepted cut-off as a fraction of the sampling rate, `fc / fs` (`k_q32` = 26 986
+/// there).
+pub const FC_OVER_FS_MIN: f64 = 1e-6;
+
 /// Single-pole low-pass coefficient (see the module docs for the Q formats).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Lowpass {
@@ -35,7 +39,7 @@ impl Lowpass {
     /// The filter with cut-off ratio `fc / fs` in `[FC_OVER_FS_MIN, 0.5)`, or `None` outside
     /// that range (including NaN).
     pub fn from_ratio(fc_over_fs: f64) -> Option<Self> {
-        if !(crate::config::FC_OVER_FS_MIN..0.5).contains(&fc_over_fs) {
+        if !(FC_OVER_FS_MIN..0.5).contains(&fc_over_fs) {
             return None;
         }
         let alpha = 2.0 * core::f64::consts::PI * fc_over_fs;

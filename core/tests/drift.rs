@@ -2,7 +2,7 @@
 //! follows slow drift, and a click does not drag the cursor. Each has a control with drift
 //! control off (or the freeze off) that does move.
 
-use imu_core::testsignal::Trace;
+use imu_core::bench::testsignal::Trace;
 use imu_core::{Config, ConfigError, Drift, DriftError, Tracker};
 
 /// Deterministic noise from the core's SplitMix64 trace generator.

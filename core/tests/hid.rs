@@ -1,7 +1,7 @@
 //! The report scheduler under random motion and random USB refusals.
 
+use imu_core::bench::testsignal::Trace;
 use imu_core::hid::{buttons, MouseReport, Reporter, MAX_COUNTS_PER_REPORT};
-use imu_core::testsignal::Trace;
 
 /// A small deterministic generator for test inputs (the core's SplitMix64 trace).
 struct Gen(Trace);

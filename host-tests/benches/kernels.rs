@@ -1,10 +1,9 @@
 //! Host benchmarks of the core's kernels and the f64 twin, one process (divan):
 //! `cargo bench -p host-tests`. The same kernels run in QEMU under `cargo lab speed`.
 
-use host_tests::speed::{kernels, trace};
-use host_tests::twin;
-use imu_core::testsignal::Checksum;
-use imu_core::Scheme;
+use host_tests::commands::speed::{kernels, trace};
+use host_tests::oracle::twin;
+use imu_core::bench::testsignal::Checksum;
 
 const N: usize = 1 << 16;
 
@@ -32,7 +31,7 @@ fn f64_twin(bencher: divan::Bencher) {
     let mut f = twin::Axis {
         lowpass: Some(twin::Lowpass::ideal(50.0 / 3000.0, 2048.0)),
         bias: 2048.0,
-        integrator: twin::Integrator::new(Scheme::Euler),
+        integrator: twin::Integrator::new(twin::Scheme::Euler),
     };
     bencher
         .counter(divan::counter::ItemsCount::new(N))

@@ -1,7 +1,7 @@
 //! The fixed-point stages held to their f64 twins within the bounds the Q formats imply
-//! (derivations in `host_tests::budget`).
+//! (derivations in `host_tests::commands::budget`).
 
-use host_tests::budget::{self, Row};
+use host_tests::commands::budget::{self, Row};
 use imu_core::Scheme;
 
 /// Sampling slack on an RMS measured over `n` independent uniform errors: the relative

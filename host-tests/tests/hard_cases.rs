@@ -3,7 +3,7 @@
 //! cut-off ratio's ends, and the shortest runs. (Sub-LSB noise is a Monte Carlo row in
 //! `monte_carlo.rs`.)
 
-use host_tests::twin;
+use host_tests::oracle::twin;
 use imu_core::{AdcCode, Axis, Config, IntegratorState, Scheme, Settings, Tracker};
 
 fn settings(fs_hz: u32, lowpass_fc_hz: Option<f64>, scheme: Scheme, adc_bits: u8) -> Settings {
@@ -119,10 +119,13 @@ fn alternating_extremes_at_nyquist() {
     // trapezoid step adds (c[n-1] + c[n]) / 2 = 0: velocity and position stay exactly 0.
     // Both match their f64 twins exactly (the inputs are integers in Q16).
     let bias = 2047 * 65_536 + 32_768;
-    for scheme in [Scheme::Euler, Scheme::Trapezoid] {
+    for (scheme, rule) in [
+        (Scheme::Euler, twin::Scheme::Euler),
+        (Scheme::Trapezoid, twin::Scheme::Trapezoid),
+    ] {
         let s = settings(3000, None, scheme, 12);
         let mut axis = Axis::new(bias);
-        let mut f = twin::Integrator::new(scheme);
+        let mut f = twin::Integrator::new(rule);
         for i in 0..1_000_000u32 {
             let code = if i % 2 == 0 { 0 } else { 4095 };
             axis.update(&s, AdcCode(code));

@@ -1,6 +1,6 @@
 //! `cargo lab hid`: its errors, and that its reports carry the motion exactly.
 
-use host_tests::hid::{wire, HidError};
+use host_tests::commands::hid::{wire, HidError};
 
 fn decode(hex: &str) -> (u8, i64, i64) {
     let b: Vec<u8> = (0..4)

@@ -10,12 +10,12 @@
 //! 24). Start latency: target 20 ms, measured 21.7 ms on the full scene; asserted at the
 //! measured level here, not at the target (see the README).
 
-use host_tests::mouse::{desk, run};
+use host_tests::commands::mouse::{compare, desk};
 use imu_core::Drift;
 
 #[test]
 fn drift_control_meets_the_targets_and_pure_integration_does_not() {
-    let r = run(24, 2.0, 11);
+    let r = compare(24, 2.0, 11);
     let m = &r.drift_control;
     assert_eq!(m.strokes, 24);
     assert!(m.clicks >= 8, "{} clicks", m.clicks);
@@ -68,7 +68,7 @@ fn a_click_whose_edge_comes_10_ms_late_does_not_drag_and_without_the_hold_it_doe
 
 #[test]
 fn json_has_the_documented_keys() {
-    let r = run(4, 0.1, 2);
+    let r = compare(4, 0.1, 2);
     let json = serde_json::to_value(&r).expect("serialisable");
     for key in [
         "stationary_minutes",

@@ -5,7 +5,7 @@
 //! must be allowed for; those are derived where they are used. Every scene is seeded, so
 //! a run is repeatable; the full scenes are `cargo lab mouse` (README).
 
-use host_tests::pointing::{self, floor_m};
+use host_tests::commands::mouse::pointing::{self, floor_m};
 use imu_core::Drift;
 
 fn on() -> Option<Drift> {

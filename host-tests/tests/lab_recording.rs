@@ -1,10 +1,10 @@
 //! `cargo lab allan` and `cargo lab drift` on a synthetic recording whose answer is known,
 //! and on the real MPU-6050 recording (figures within what its README states).
 
-use host_tests::allan::{figures, oadev};
-use host_tests::columns::{read, Options, Units};
-use host_tests::drift::experiment;
-use host_tests::sim;
+use host_tests::commands::drift::experiment;
+use host_tests::formats::columns::{read, Options, Units};
+use host_tests::stats::allan::{figures, oadev};
+use host_tests::world::noise;
 
 #[test]
 fn drift_on_white_noise_matches_its_allan_prediction() {
@@ -12,9 +12,9 @@ fn drift_on_white_noise_matches_its_allan_prediction() {
     // 200 segments of 5 + 10 s. The prediction is white (eq 27) plus the calibration's bias
     // error; bias instability read from the curve is small. Each row must hold at
     // |z| < 3.29 (0.1 % per row, 1 % for the 10 rows).
-    let mut rng = sim::rng(9);
+    let mut rng = noise::rng(9);
     let raw = vec![(0..300_000)
-        .map(|_| (20.0 * sim::normal(&mut rng)).round())
+        .map(|_| (20.0 * noise::normal(&mut rng)).round())
         .collect::<Vec<f64>>()];
     let y: Vec<f64> = raw[0].iter().map(|v| v * 1e-3).collect();
     let f = figures(&oadev(&y, 100.0)).expect("enough data");

@@ -1,11 +1,12 @@
 //! `cargo lab reproduce` at the `--quick` size: every law holds, every control is rejected,
 //! the JSON is as documented and each prediction can be recomputed from its params.
 
-use host_tests::predict::predict;
-use host_tests::reproduce::{reproduce, z_crit, Report};
+use host_tests::commands::reproduce::{reproduce, z_crit, Report};
+use host_tests::oracle::predict::predict;
 
 fn quick() -> Report {
-    reproduce(1000, 1, None, false).expect("no plots written, nothing to fail")
+    reproduce(1000, 1, None, &indicatif::ProgressBar::hidden())
+        .expect("no plots written, nothing to fail")
 }
 
 #[test]

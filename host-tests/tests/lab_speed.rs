@@ -1,7 +1,9 @@
 //! `cargo lab speed`: the harness output parser, the host checksums, and the accuracy target
 //! of the default path (the QEMU run itself is in .ci/run: `cargo lab speed`).
 
-use host_tests::speed::{errors_at, host_checksums, parse_target, sensor_noise_m, Variant};
+use host_tests::commands::speed::{
+    errors_at, host_checksums, parse_target, sensor_noise_m, Variant,
+};
 
 const GOOD: &str = "calib 344 172204\nkernel baseline 3072 12 2698151 7b6448aed996ce09 0\n";
 
@@ -38,7 +40,7 @@ fn host_checksums_are_deterministic_and_distinct() {
 #[test]
 fn default_path_error_is_below_one_percent_of_sensor_noise() {
     // The accuracy target, from 1 ms to 60 s here (1 h in `cargo lab speed`,
-    // README: 0.18 %). Expected from the budget (host_tests::budget): the Q16 bias rounding,
+    // README: 0.18 %). Expected from the budget (host_tests::commands::budget): the Q16 bias rounding,
     // about 3e-4 of the sensor's noise error at 60 s: the 1 % line is far above it.
     let times = [0.001, 0.01, 0.1, 1.0, 10.0, 60.0];
     let errs = errors_at(2, &times);

@@ -1,19 +1,19 @@
 //! `cargo lab simulate` and `cargo lab replay`: the whole device on scenes and recordings.
 
-use host_tests::recording;
-use host_tests::scene::catalogue;
-use host_tests::track;
+use host_tests::device::track;
+use host_tests::formats::recording;
+use host_tests::world::scene::catalogue;
 use imu_core::Config;
 
-fn scene(name: &str) -> host_tests::scene::Scene {
+fn scene(name: &str) -> host_tests::world::scene::Scene {
     catalogue()
         .into_iter()
         .find(|s| s.name == name)
         .expect("scene exists")
 }
 
-fn config_for(sc: &host_tests::scene::Scene) -> Config {
-    sc.config()
+fn config_for(sc: &host_tests::world::scene::Scene) -> Config {
+    track::scene_config(sc)
 }
 
 #[test]

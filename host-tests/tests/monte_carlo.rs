@@ -10,10 +10,10 @@
 //! to exp(-2 pi^2 sigma^2) < 1e-34), so the white-noise predictions use
 //! `sigma_eff^2 = sigma^2 + 1/12`.
 
-use host_tests::montecarlo::{run, settings, trial, MID};
-use host_tests::reference as r;
-use host_tests::sim::{normal, Adc, Ar1};
+use host_tests::device::trial::{run, settings, trial, MID};
+use host_tests::oracle::reference as r;
 use host_tests::stats::{wls_slope, MeanSquare, Z_CRIT};
+use host_tests::world::noise::{normal, Adc, Ar1};
 use imu_core::Scheme;
 
 const ADC: Adc = Adc { bits: 12 };
@@ -331,7 +331,7 @@ fn sub_lsb_noise_is_white_with_the_lattice_variance_not_sheppards() {
     let lsb = s.m_s2_per_lsb();
     let n = 100u64;
     let (pos, _) = white(100, Scheme::Euler, 0.3, n as usize, 20_000, 11);
-    let var = host_tests::sim::quantised_variance(f64::from(MID), 0.3);
+    let var = host_tests::world::noise::quantised_variance(f64::from(MID), 0.3);
     holds(
         "sub-LSB, lattice variance",
         &pos,

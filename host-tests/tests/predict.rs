@@ -1,6 +1,6 @@
 //! `cargo lab predict`: accuracy against mpmath over the promised range, and its errors.
 
-use host_tests::predict::{predict, Inputs, PredictError};
+use host_tests::oracle::predict::{predict, Inputs, PredictError};
 
 fn inputs(fs: f64, t: &[f64]) -> Inputs {
     Inputs {

@@ -1,7 +1,7 @@
 //! The f64 reference formulas against mpmath ground truth (tools/reference_truth.py at 100
 //! digits), against each other, and against REFERENCE (e)'s table.
 
-use host_tests::reference as r;
+use host_tests::oracle::reference as r;
 
 struct Truth {
     alpha: f64,

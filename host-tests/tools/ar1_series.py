@@ -1,5 +1,5 @@
 """Taylor coefficients of c3, c2, c1 in REFERENCE (c)(iii)'s stable split of the AR(1)-Euler
-variance sum V(N, alpha), printed as Rust arrays for host-tests/src/reference.rs.
+variance sum V(N, alpha), printed as Rust arrays for host-tests/src/oracle/reference.rs.
 
     c3 = (1+q)/(3u) - q^2 a^2/u^3 + q^2 a^3/(3u^4)
     c2 = (1-2q-q^2)/(2u^2) + 2 q^2 a/u^3 - q^2 a^2/u^4

@@ -1,7 +1,7 @@
 """CI check: the committed generated data is what its generators produce.
 
 - host-tests/data/reference_truth.csv == reference_truth.py's output, byte for byte;
-- the C3, C2, C1 arrays in host-tests/src/reference.rs == ar1_series.py's values.
+- the C3, C2, C1 arrays in host-tests/src/oracle/reference.rs == ar1_series.py's values.
 Run from the repository root with mpmath and sympy installed.
 """
 import pathlib
@@ -30,7 +30,7 @@ truth = (root / "host-tests" / "data" / "reference_truth.csv").read_text()
 if run("reference_truth.py") != truth:
     sys.exit("reference_truth.csv differs from reference_truth.py's output")
 want = arrays(run("ar1_series.py"))
-got = arrays((root / "host-tests" / "src" / "reference.rs").read_text())
+got = arrays((root / "host-tests" / "src" / "oracle" / "reference.rs").read_text())
 if want != got:
     sys.exit(f"series coefficients in reference.rs differ from ar1_series.py: {want} vs {got}")
 print("generated data: reference_truth.csv and the C3/C2/C1 series match their generators")

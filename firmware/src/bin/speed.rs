@@ -20,11 +20,11 @@ use cortex_m::peripheral::{syst::SystClkSource, DWT, SYST};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use dsp_process::SplitProcess;
-use imu_core::kernels::{
+use imu_core::bench::kernels::{
     self, Baseline, F32Stage, IntegratorStage, Kernel, LowpassStage, NarrowStage, PipelineAxis,
     ReadoutStage, TrackerDrift,
 };
-use imu_core::testsignal::{Checksum, Trace};
+use imu_core::bench::testsignal::{Checksum, Trace};
 use imu_core::Scheme;
 // The device crate provides the interrupt vector table cortex-m-rt links.
 use stm32f4xx_hal as _;

@@ -3,8 +3,8 @@
 //! configuration's position error against the f64 ground truth at 1 s, 60 s and 1 h.
 //!
 //! # Design
-//! - Target: `firmware/src/bin/speed.rs` runs `imu_core::kernels` on
-//!   `imu_core::testsignal::Trace` under SysTick in QEMU (`-icount shift=10`: one
+//! - Target: `firmware/src/bin/speed.rs` runs `imu_core::bench::kernels` on
+//!   `imu_core::bench::testsignal::Trace` under SysTick in QEMU (`-icount shift=10`: one
 //!   instruction = 1024 ns of virtual time, so ticks / (ticks per instruction) counts
 //!   instructions). The harness calibrates ticks per instruction on 1000 `nop`s. The host
 //!   runs the same kernels on the same trace and must reproduce every checksum bit for bit.
@@ -20,19 +20,19 @@ use std::process::Command;
 use std::time::Instant;
 
 use dsp_process::SplitProcess;
-use imu_core::kernels::{
+use imu_core::bench::kernels::{
     self, Baseline, F32Stage, IntegratorStage, Kernel, LowpassStage, NarrowStage, PipelineAxis,
     ReadoutStage, TrackerDrift,
 };
-use imu_core::testsignal::{Checksum, Trace};
-use imu_core::variants::{F32Pipeline, NarrowPipeline};
+use imu_core::bench::testsignal::{Checksum, Trace};
+use imu_core::bench::variants::{F32Pipeline, NarrowPipeline};
 use imu_core::{AdcCode, Axis, Scheme};
 use serde::Serialize;
 
-use crate::plot::{Line, Plot, Points};
-use crate::scene;
-use crate::sim;
-use crate::twin;
+use crate::formats::plot::{Line, Plot, Points};
+use crate::oracle::twin;
+use crate::world::noise;
+use crate::world::scene;
 
 /// The harness's trace seed, block and length (must match `firmware/src/bin/speed.rs`).
 pub const SEED: u64 = 0x1A2B_3C4D;
@@ -313,7 +313,7 @@ fn twin_axis(filter: bool, bias: f64) -> twin::Axis {
     twin::Axis {
         lowpass: filter.then(|| twin::Lowpass::ideal(50.0 / 3000.0, bias)),
         bias,
-        integrator: twin::Integrator::new(Scheme::Euler),
+        integrator: twin::Integrator::new(twin::Scheme::Euler),
     }
 }
 
@@ -403,7 +403,7 @@ pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
     let n_max = (times.last().copied().unwrap_or(0.0) * fs).round() as usize;
     let mut sq = vec![vec![0.0; times.len()]; Variant::ALL.len()];
     for trial in 0..trials {
-        let mut rng = sim::rng(0x5EED ^ trial);
+        let mut rng = noise::rng(0x5EED ^ trial);
         let mut run = sc.start(&mut rng);
         let window: Vec<u16> = (0..3000).map(|_| run.next_code(&mut rng)).collect();
         let (mean, _) = twin::calibrate(&window);
@@ -423,7 +423,7 @@ pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
         let mut f32p = F32Pipeline::new(Some(k32), mean32);
         let mut truth = [twin_axis(true, mean), twin_axis(false, mean)];
         let mut trap_truth = twin::Axis {
-            integrator: twin::Integrator::new(Scheme::Trapezoid),
+            integrator: twin::Integrator::new(twin::Scheme::Trapezoid),
             ..twin_axis(true, mean)
         };
         let mut next_t = 0;
@@ -675,4 +675,68 @@ pub fn table(r: &Report) -> String {
         sensor_noise_m(3600.0)
     );
     out
+}
+
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str = "cargo lab speed --host-only --max-t 60";
+
+/// `cargo lab speed`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Skip the QEMU run (no instruction counts).
+    #[arg(long)]
+    pub host_only: bool,
+    /// Trials for the error columns.
+    #[arg(long, default_value_t = 3)]
+    pub trials: u64,
+    /// Measure errors only up to this T [s] (3600 for the full table).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 3600.0)]
+    pub max_t: f64,
+    /// Directory for the Pareto plot.
+    #[arg(long, default_value = "target/lab/speed")]
+    pub out: std::path::PathBuf,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `cargo lab speed`.
+///
+/// # Errors
+/// A bad argument; the QEMU harness failing to build or run; [`super::Error::Check`] when the
+/// target's checksums differ from the host's.
+pub fn run(a: &Args) -> super::Outcome {
+    if a.trials == 0 {
+        return Err(super::Error::arg("trials", 0, "at least one trial"));
+    }
+    super::positive("max-t", a.max_t)?;
+    let workspace = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .ok_or_else(|| super::Error::Run("no workspace directory".into()))?;
+    let bar = super::progress(0, a.json, "");
+    let target = if a.host_only {
+        None
+    } else {
+        bar.set_message("building and running the QEMU harness");
+        Some(run_target(workspace).map_err(|e| super::Error::Run(e.to_string()))?)
+    };
+    bar.set_message("host timing and errors against f64");
+    let report = report(target, a.trials, a.max_t);
+    bar.finish_and_clear();
+    if let Some(plot) = pareto(&report) {
+        super::write_out(&a.out, "pareto.svg", &plot.to_svg())?;
+    }
+    let mismatch = report.target.as_ref().is_some_and(|t| !t.bit_exact);
+    let text = if a.json {
+        serde_json::to_string_pretty(&report)?
+    } else {
+        table(&report)
+    };
+    if mismatch {
+        return Err(super::Error::Check {
+            report: text,
+            why: "target and host checksums differ".into(),
+        });
+    }
+    Ok(text)
 }

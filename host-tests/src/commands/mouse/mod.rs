@@ -2,13 +2,8 @@
 //! through the whole device (`imu_core::Tracker` with and without drift control) and the
 //! cursor is compared with the hand.
 //!
-//! # Scene
-//! Each axis: ADXL335 noise (300 ug/sqrt(Hz) into its 50 Hz RC pole), a bias random walk of
-//! 20 ug/sqrt(s) (slow temperature drift), a 12-bit ADC at 3 kHz. The hand makes minimum-jerk
-//! strokes of 1 to 30 cm (log-uniform) in uniformly random directions, lasting
-//! `0.25 + 0.9 sqrt(D / 0.3 m)` s (peak speeds 0.05 to 0.5 m/s), separated by rests of 0.3 to
-//! 2 s; in every other rest the finger clicks (a press and a release 100 ms apart), each edge
-//! with a 30 ms jolt of +-0.5 m/s^2 along a random direction.
+//! The scene is [`crate::world::desk`]: ADXL335 noise and bias walk on a 12-bit ADC at
+//! 3 kHz, minimum-jerk strokes of 1 to 30 cm, rests and clicks with their jolts.
 //!
 //! # Metrics
 //! - stroke length and direction: the cursor's displacement from one stroke's start to the
@@ -24,156 +19,17 @@ use imu_core::hid::screen_motion;
 use imu_core::{Config, Drift, Tracker};
 use serde::Serialize;
 
-use crate::scene::{min_jerk_accel, ADXL335_LSB};
-use crate::sim::{self, SimRng};
+use crate::stats::{spread, Spread};
+use crate::world::desk::{Plan, Sensor, FS};
+use crate::world::noise;
 
-const FS: f64 = 3000.0;
+pub mod pointing;
+
+/// The device's counts per inch (the default configuration).
 const CPI: f64 = 800.0;
-const G: f64 = 9.806_65;
 /// How late a button edge reaches the tracker [s]: the firmware's 5 ms debounce and its
 /// 1 ms housekeeping period.
 pub const EDGE_LATE_S: f64 = 0.006;
-
-/// One stroke of the hand.
-#[derive(Clone, Copy, Debug)]
-struct Stroke {
-    start: usize,
-    len: usize,
-    distance_m: f64,
-    dir: f64,
-}
-
-/// A click: press and release sample indices, jolt directions.
-#[derive(Clone, Copy, Debug)]
-struct Click {
-    press: usize,
-    release: usize,
-    dirs: [f64; 2],
-}
-
-/// The hand's plan for a scene.
-struct Plan {
-    n: usize,
-    strokes: Vec<Stroke>,
-    clicks: Vec<Click>,
-}
-
-fn plan(strokes: usize, rng: &mut SimRng) -> Plan {
-    use rand::Rng;
-    let mut t = (1.5 * FS) as usize; // 1 s calibration + 0.5 s rest
-    let (mut ss, mut cs) = (vec![], vec![]);
-    for k in 0..strokes {
-        let d = 0.01 * 30f64.powf(rng.random::<f64>());
-        let dur = 0.25 + 0.9 * (d / 0.3).sqrt();
-        let len = (dur * FS) as usize;
-        ss.push(Stroke {
-            start: t,
-            len,
-            distance_m: d,
-            dir: rng.random::<f64>() * std::f64::consts::TAU,
-        });
-        t += len;
-        let rest = ((0.3 + 1.7 * rng.random::<f64>()) * FS) as usize;
-        if k % 2 == 1 && rest > (0.6 * FS) as usize {
-            let press = t + (0.1 * FS) as usize;
-            cs.push(Click {
-                press,
-                release: press + (0.1 * FS) as usize,
-                dirs: [
-                    rng.random::<f64>() * std::f64::consts::TAU,
-                    rng.random::<f64>() * std::f64::consts::TAU,
-                ],
-            });
-        }
-        t += rest;
-    }
-    Plan {
-        n: t + (0.5 * FS) as usize,
-        strokes: ss,
-        clicks: cs,
-    }
-}
-
-/// The hand's acceleration [m/s^2] (x, y) at sample `i`.
-fn hand(p: &Plan, i: usize) -> (f64, f64) {
-    let (mut ax, mut ay) = (0.0, 0.0);
-    for s in &p.strokes {
-        if i >= s.start && i < s.start + s.len {
-            let a = min_jerk_accel((i - s.start) as f64 / FS, s.len as f64 / FS, s.distance_m);
-            ax += a * s.dir.cos();
-            ay += a * s.dir.sin();
-        }
-    }
-    for c in &p.clicks {
-        for (edge, dir) in [c.press, c.release].iter().zip(c.dirs) {
-            let jolt = (0.03 * FS) as usize;
-            if i >= *edge && i < edge + jolt {
-                // +0.5 then -0.5 m/s^2: the finger's push and the hand's recoil.
-                let a = if i - edge < jolt / 2 { 0.5 } else { -0.5 };
-                ax += a * dir.cos();
-                ay += a * dir.sin();
-            }
-        }
-    }
-    (ax, ay)
-}
-
-/// The sensor on three axes: ADXL335 noise through its 50 Hz pole, a 20 ug/sqrt(s) bias
-/// walk, a 12-bit ADC at 3 kHz. The pointing scenes use it too, with gravity.
-#[derive(Clone)]
-pub(crate) struct Sensor {
-    ar: [sim::Ar1; 3],
-    walk: [f64; 3],
-    walk_sd: f64,
-}
-
-impl Sensor {
-    pub(crate) fn new(rng: &mut SimRng) -> Self {
-        let alpha = std::f64::consts::TAU * 50.0 / FS;
-        let sigma_c = 300e-6 * G;
-        let r0 = sigma_c * sigma_c * std::f64::consts::PI * 50.0 / 2.0;
-        Self {
-            ar: core::array::from_fn(|_| sim::Ar1::new(r0, alpha, rng)),
-            walk: [0.0; 3],
-            walk_sd: 20e-6 * G / FS.sqrt(),
-        }
-    }
-
-    /// Codes for a hand acceleration `a` and the gravity `g` the sensor reads [m/s^2]
-    /// (sensor frame; the desk scene has none, the pointing scenes tilt it).
-    pub(crate) fn codes(&mut self, a: [f64; 3], g: [f64; 3], rng: &mut SimRng) -> [u16; 3] {
-        let adc = sim::Adc { bits: 12 };
-        core::array::from_fn(|k| {
-            self.walk[k] += self.walk_sd * sim::normal(rng);
-            let x = a[k] + g[k] + self.ar[k].next(rng) + self.walk[k];
-            adc.code(2048.0 + x / ADXL335_LSB)
-        })
-    }
-}
-
-/// Median and 90th percentile.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Spread {
-    /// Median.
-    pub median: f64,
-    /// 90th percentile.
-    pub p90: f64,
-}
-
-fn spread(mut v: Vec<f64>) -> Spread {
-    if v.is_empty() {
-        return Spread {
-            median: f64::NAN,
-            p90: f64::NAN,
-        };
-    }
-    v.sort_by(f64::total_cmp);
-    let q = |p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
-    Spread {
-        median: q(0.5),
-        p90: q(0.9),
-    }
-}
 
 /// Latencies [ms].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -228,7 +84,7 @@ struct Trace {
 }
 
 fn simulate(drift: Option<Drift>, n: usize, seed: u64, p: Option<&Plan>, late: usize) -> Trace {
-    let mut rng = sim::rng(seed);
+    let mut rng = noise::rng(seed);
     let mut sensor = Sensor::new(&mut rng);
     let mut t = Tracker::new(&Config {
         drift,
@@ -241,7 +97,7 @@ fn simulate(drift: Option<Drift>, n: usize, seed: u64, p: Option<&Plan>, late: u
         moved: Vec::with_capacity(n / 3 + 1),
     };
     for i in 0..n {
-        let (ax, ay) = p.map_or((0.0, 0.0), |p| hand(p, i));
+        let (ax, ay) = p.map_or((0.0, 0.0), |p| p.accel(i));
         if let Some(p) = p {
             if p.clicks
                 .iter()
@@ -272,8 +128,7 @@ pub fn desk(
     seed: u64,
     edge_late_s: f64,
 ) -> Metrics {
-    let mut rng = sim::rng(seed ^ 0xA11CE);
-    let p = plan(strokes, &mut rng);
+    let p = Plan::new(strokes, seed);
     let late = (edge_late_s * FS).round() as usize;
     let tr = simulate(drift, p.n, seed, Some(&p), late);
     let at = |i: usize| tr.pos[(i / 3).min(tr.pos.len() - 1)];
@@ -328,7 +183,7 @@ pub fn desk(
 }
 
 /// Runs the desk scenes with and without drift control.
-pub fn run(strokes: usize, rest_minutes: f64, seed: u64) -> Report {
+pub fn compare(strokes: usize, rest_minutes: f64, seed: u64) -> Report {
     let (on, off) = rayon::join(
         || {
             desk(
@@ -391,8 +246,7 @@ pub fn table(r: &Report) -> String {
 
 /// One scene's true path and cursor path, as an SVG (x right, y away from the user).
 pub fn path_svg(strokes: usize, seed: u64) -> String {
-    let mut rng = sim::rng(seed ^ 0xA11CE);
-    let p = plan(strokes, &mut rng);
+    let p = Plan::new(strokes, seed);
     let late = (EDGE_LATE_S * FS).round() as usize;
     let on = simulate(Some(Drift::default()), p.n, seed, Some(&p), late);
     let off = simulate(None, p.n, seed, Some(&p), late);
@@ -471,22 +325,64 @@ pub fn path_svg(strokes: usize, seed: u64) -> String {
     )
 }
 
-/// The desk scene as the device's inputs: ADC codes `[x, y, z]` at 3 kHz and whether the
-/// finger holds the button at each sample (the device's debounce adds its own delay). With
-/// `strokes == 0` the hand rests (after the same 1.5 s of calibration and rest).
-pub fn desk_stream(strokes: usize, seed: u64) -> (Vec<[u16; 3]>, Vec<bool>) {
-    let mut rng = sim::rng(seed ^ 0xA11CE);
-    let p = plan(strokes, &mut rng);
-    let mut rng = sim::rng(seed);
-    let mut sensor = Sensor::new(&mut rng);
-    let codes = (0..p.n)
-        .map(|i| {
-            let (ax, ay) = hand(&p, i);
-            sensor.codes([ax, ay, 0.0], [0.0; 3], &mut rng)
-        })
-        .collect();
-    let held = (0..p.n)
-        .map(|i| p.clicks.iter().any(|c| (c.press..c.release).contains(&i)))
-        .collect();
-    (codes, held)
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str = "cargo lab mouse --quick --rest-minutes 2";
+
+/// `cargo lab mouse`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Strokes in the desk scene.
+    #[arg(long, default_value_t = 60)]
+    pub strokes: usize,
+    /// Length of the at-rest scene [min].
+    #[arg(long, allow_negative_numbers = true, default_value_t = 10.0)]
+    pub rest_minutes: f64,
+    /// Seed of every random draw (the same seed, the same output).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Smaller pointing scenes (for CI).
+    #[arg(long)]
+    pub quick: bool,
+    /// Directory for the path plot and the detectability map.
+    #[arg(long, default_value = "target/lab/mouse")]
+    pub out: std::path::PathBuf,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `cargo lab mouse`: the desk scenes, then the pointing scenes.
+///
+/// # Errors
+/// A bad argument; an unwritable `--out`.
+pub fn run(a: &Args) -> super::Outcome {
+    if a.strokes == 0 || a.strokes > 10_000 {
+        return Err(super::Error::arg("strokes", a.strokes, "1..=10000"));
+    }
+    super::positive("rest-minutes", a.rest_minutes)?;
+    let bar = super::progress(0, a.json, "");
+    bar.set_message("desk scenes");
+    let report = compare(a.strokes, a.rest_minutes, a.seed);
+    let sizes = if a.quick {
+        pointing::Sizes::quick(a.rest_minutes)
+    } else {
+        pointing::Sizes::full(a.rest_minutes)
+    };
+    bar.set_message("pointing scenes");
+    let scenes = pointing::scenes(Some(Drift::default()), sizes, a.seed);
+    bar.finish_and_clear();
+    let path = super::write_out(&a.out, "path.svg", &path_svg(12, a.seed))?;
+    let map = super::write_out(&a.out, "map.svg", &pointing::map_svg(&scenes.map))?;
+    if a.json {
+        let mut v = serde_json::to_value(&report)?;
+        v["scenes"] = serde_json::to_value(&scenes)?;
+        return super::json(&v);
+    }
+    Ok(format!(
+        "{}\n{}plots: {}, {}",
+        table(&report),
+        pointing::table(&scenes),
+        path.display(),
+        map.display()
+    ))
 }

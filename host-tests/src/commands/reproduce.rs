@@ -15,7 +15,7 @@
 //!
 //! Every trial is one seeded trajectory (seed, sweep and trial index fix it, whatever the
 //! thread count) whose position is read at several checkpoints, so one run gives every T.
-//! Each row's `predicted_m` is computed by [`crate::predict`] from exactly the inputs in its
+//! Each row's `predicted_m` is computed by [`crate::oracle::predict`] from exactly the inputs in its
 //! `params`, so `cargo lab predict` with those inputs prints the same number.
 //!
 //! A row holds when `|z| < z_crit`, with `z_crit` chosen so that the whole table has a 1 %
@@ -23,15 +23,15 @@
 //! wrong law and pass when they are rejected (`|z| >= z_crit`).
 
 use imu_core::{AdcCode, Axis, Config, Scheme, Settings};
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::plot::{Line, Plot, Points};
-use crate::predict::{self, Inputs};
-use crate::scene::{Adc, Scene, Source, ADXL335_LSB};
-use crate::sim::{self, SimRng};
+use crate::formats::plot::{Line, Plot, Points};
+use crate::oracle::predict::{self, Inputs};
 use crate::stats::MeanSquare;
+use crate::world::noise::{self, SimRng};
+use crate::world::scene::{Adc, Scene, Source, ADXL335_LSB};
 
 /// The inputs of `cargo lab predict` that reproduce a row's prediction.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -197,7 +197,7 @@ struct RunSpec {
 
 /// Runs the trials of `spec`, each with a `scene` built for it, through the core, reading
 /// the position and the retrospective estimate after each checkpoint's number of steps.
-fn run(
+fn simulate(
     spec: RunSpec,
     checkpoints: &[u64],
     scene: &(dyn Fn(&mut SimRng) -> Scene + Sync),
@@ -218,7 +218,7 @@ fn run(
     let per_trial: Vec<Vec<(f64, f64)>> = (0..trials)
         .into_par_iter()
         .map(|i| {
-            let mut rng = sim::rng(trial_seed(seed, sweep, i));
+            let mut rng = noise::rng(trial_seed(seed, sweep, i));
             let sc = scene(&mut rng);
             let mut source = sc.start(&mut rng);
             let mut axis = Axis::new(2048 << 16);
@@ -378,7 +378,7 @@ fn white_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
     let fs = 100u32;
     let ns = [5u64, 10, 30, 100, 300, 1000, 3000];
     let sd = white_eff(4.0);
-    let m = run(
+    let m = simulate(
         RunSpec {
             sweep: 1,
             seed,
@@ -492,7 +492,7 @@ fn white_vs_fs(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
     let mut ms = vec![];
     for (k, &fs) in fss.iter().enumerate() {
         let n = (t * f64::from(fs)) as u64;
-        let m = run(
+        let m = simulate(
             RunSpec {
                 sweep: 10 + k as u64,
                 seed,
@@ -570,7 +570,7 @@ fn filtered_vs_fs(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
     let mut ms = vec![];
     for (k, &fs) in fss.iter().enumerate() {
         let n = (t * f64::from(fs)) as u64;
-        let m = run(
+        let m = simulate(
             RunSpec {
                 sweep: 20 + k as u64,
                 seed,
@@ -650,7 +650,7 @@ fn filtered_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
     let (fs, fc) = (100u32, 1.0);
     let sc = sigma_c_for(20.0, fc);
     let ns = [2u64, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 6000];
-    let m = run(
+    let m = simulate(
         RunSpec {
             sweep: 30,
             seed,
@@ -752,11 +752,11 @@ fn bias_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
         about: "a constant bias per trial",
         fs: 100.0,
         sources: vec![Source::Bias {
-            value: (3.0 * sim::normal(rng)).round() * ADXL335_LSB,
+            value: (3.0 * noise::normal(rng)).round() * ADXL335_LSB,
         }],
         adc: ADC,
     };
-    let m = run(
+    let m = simulate(
         RunSpec {
             sweep: 40,
             seed,
@@ -768,7 +768,7 @@ fn bias_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
         &scene,
         bar,
     );
-    let bias = sim::quantised_variance(0.0, 3.0).sqrt() * ADXL335_LSB;
+    let bias = noise::quantised_variance(0.0, 3.0).sqrt() * ADXL335_LSB;
     let p = |t: f64| Params::bias(100.0, t, bias);
     let mut rows = vec![];
     for (i, &n) in ns.iter().enumerate() {
@@ -851,16 +851,20 @@ pub fn z_crit(k: usize) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// Runs every sweep with `trials` trials each; plots go to `out_dir` if given.
+/// Simulations per trial over the five sweeps: white_vs_fs and filtered_vs_fs run six each.
+const TRIAL_SETS: u64 = 1 + 6 + 6 + 1 + 1;
+
+/// Runs every sweep with `trials` trials each; plots go to `out_dir` if given; `bar` counts
+/// the simulations (`trials` times [`TRIAL_SETS`]; hidden or not, as the caller chose).
 ///
 /// # Errors
-/// A message if a plot cannot be written.
+/// A plot that cannot be written.
 pub fn reproduce(
     trials: usize,
     seed: u64,
     out_dir: Option<&std::path::Path>,
-    progress: bool,
-) -> Result<Report, String> {
+    bar: &ProgressBar,
+) -> Result<Report, super::Error> {
     let sweeps: [fn(u64, usize, &ProgressBar) -> SweepOut; 5] = [
         white_vs_t,
         white_vs_fs,
@@ -869,17 +873,7 @@ pub fn reproduce(
         bias_vs_t,
     ];
     // Trials per sweep: white_vs_fs and filtered_vs_fs run six simulations each.
-    let total = trials as u64 * (1 + 6 + 6 + 1 + 1);
-    let bar = if progress {
-        ProgressBar::new(total)
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} trials {elapsed}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    let outs: Vec<SweepOut> = sweeps.iter().map(|f| f(seed, trials, &bar)).collect();
+    let outs: Vec<SweepOut> = sweeps.iter().map(|f| f(seed, trials, bar)).collect();
     bar.finish_and_clear();
     let mut rows: Vec<Row> = outs.iter().flat_map(|o| o.rows.clone()).collect();
     let k = rows.iter().filter(|r| !r.control).count();
@@ -889,11 +883,8 @@ pub fn reproduce(
     }
     let mut plots = vec![];
     if let Some(dir) = out_dir {
-        std::fs::create_dir_all(dir).map_err(|e| format!("--out {}: {e}", dir.display()))?;
         for o in &outs {
-            let path = dir.join(format!("{}.svg", o.plot.0));
-            std::fs::write(&path, o.plot.1.to_svg())
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let path = super::write_out(dir, &format!("{}.svg", o.plot.0), &o.plot.1.to_svg())?;
             plots.push(path.display().to_string());
         }
     }
@@ -940,4 +931,58 @@ pub fn table(r: &Report) -> String {
         out += &format!("plot: {p}\n");
     }
     out
+}
+
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str = "cargo lab reproduce --quick";
+
+/// `cargo lab reproduce`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// CI-sized run: 1000 trials per sweep instead of 10 000, the same rows.
+    #[arg(long)]
+    pub quick: bool,
+    /// Trials per sweep (overrides --quick).
+    #[arg(long)]
+    pub trials: Option<usize>,
+    /// Seed of every random draw (the same seed, the same output).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Directory for the SVG plots.
+    #[arg(long, default_value = "target/lab/reproduce")]
+    pub out: std::path::PathBuf,
+    /// Print `{"rows": [..], "plots": [..], "trials": ..}` instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `cargo lab reproduce`.
+///
+/// # Errors
+/// Too few trials; an unwritable `--out`; [`super::Error::Check`] when a row does not come
+/// out as expected (a law rejected or a control accepted).
+pub fn run(a: &Args) -> super::Outcome {
+    let trials = a.trials.unwrap_or(if a.quick { 1000 } else { 10_000 });
+    if trials < 100 {
+        return Err(super::Error::arg(
+            "trials",
+            trials,
+            "at least 100, or the normal approximation behind the z-scores fails",
+        ));
+    }
+    let bar = super::progress(trials as u64 * TRIAL_SETS, a.json, "trials");
+    let report = reproduce(trials, a.seed, Some(&a.out), &bar)?;
+    let bad = report.rows.iter().filter(|r| !r.pass).count();
+    let text = if a.json {
+        serde_json::to_string_pretty(&report)?
+    } else {
+        table(&report)
+    };
+    if bad > 0 {
+        return Err(super::Error::Check {
+            report: text,
+            why: format!("{bad} rows did not come out as expected"),
+        });
+    }
+    Ok(text)
 }

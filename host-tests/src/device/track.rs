@@ -6,6 +6,21 @@ use imu_core::hid::{screen_motion, Reporter};
 use imu_core::{Config, ConfigError, Event, Phase, Tracker};
 use serde::Serialize;
 
+use crate::world::scene::Scene;
+
+/// The device configuration for a scene's sensor: its rate, scale and ADC, and an at-rest
+/// bound of 4x its own noise (the default's margin for an ADXL335: 0.1 m/s^2 against
+/// 0.026 m/s^2); everything else the default.
+pub fn scene_config(scene: &Scene) -> Config {
+    Config {
+        fs_hz: scene.fs as u32,
+        m_s2_per_lsb: scene.adc.m_s2_per_lsb,
+        adc_bits: scene.adc.bits,
+        rest_noise_max_m_s2: 4.0 * scene.noise_rms_m_s2(),
+        ..Config::default()
+    }
+}
+
 /// The cursor's position at one time.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TrackPoint {

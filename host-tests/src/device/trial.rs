@@ -4,8 +4,8 @@
 
 use imu_core::{AdcCode, Axis, Config, Scheme, Settings};
 
-use crate::sim::SimRng;
 use crate::stats::MeanSquare;
+use crate::world::noise::SimRng;
 
 /// ADC mid-scale code of a 12-bit converter: the zero-acceleration point of the simulations.
 pub const MID: u16 = 2048;
@@ -71,7 +71,7 @@ pub fn run(
     seed: u64,
     mut one: impl FnMut(&mut SimRng) -> Trial,
 ) -> (MeanSquare, MeanSquare) {
-    let mut rng = crate::sim::rng(seed);
+    let mut rng = crate::world::noise::rng(seed);
     let results: Vec<Trial> = (0..trials).map(|_| one(&mut rng)).collect();
     let pos: Vec<f64> = results.iter().map(|t| t.position_m).collect();
     let retro: Vec<f64> = results.iter().map(|t| t.retrospective_m).collect();

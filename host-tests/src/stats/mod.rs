@@ -1,11 +1,16 @@
-//! Monte Carlo statistics: the mean square of a set of trials with its standard error, the
-//! z-score of a predicted RMS, and a weighted log-log slope.
+//! Statistics: the mean square of a set of Monte Carlo trials with its standard error, the
+//! z-score of a predicted RMS, a weighted log-log slope, quantiles of a set of measurements,
+//! and the overlapping Allan deviation ([`allan`]).
 //!
 //! # How a prediction is judged
 //! Over `M` independent trials of the position `s`, `mean(s^2)` estimates `E[s^2]` with
 //! standard error `se = sd(s^2) / sqrt(M)` (central limit theorem; `M >= 1000` here). The
 //! z-score of a predicted RMS `p` is `(mean(s^2) - p^2) / se`. The 95 % interval of the RMS
 //! is `sqrt(mean(s^2) -+ 1.96 se)` (delta method). A test passes when `|z| < Z_CRIT`.
+
+use serde::Serialize;
+
+pub mod allan;
 
 /// Two-sided critical z for the Monte Carlo tests: 3.29 is a 0.1 % false-failure rate per
 /// check, so at most 1.6 % for the sixteen checks of `tests/monte_carlo.rs` (Bonferroni).
@@ -68,6 +73,35 @@ pub fn wls_slope(x: &[f64], y: &[f64], se_y: &[f64]) -> (f64, f64) {
     let sxx: f64 = w.iter().zip(x).map(|(w, x)| w * (x - xm).powi(2)).sum();
     let sxy: f64 = (0..x.len()).map(|i| w[i] * (x[i] - xm) * (y[i] - ym)).sum();
     (sxy / sxx, (1.0 / sxx).sqrt())
+}
+
+/// Median, 90th percentile and maximum of a set of measurements.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Spread {
+    /// Median.
+    pub median: f64,
+    /// 90th percentile.
+    pub p90: f64,
+    /// Largest.
+    pub max: f64,
+}
+
+/// Median, 90th percentile and maximum of `v` (NaN for none).
+pub fn spread(mut v: Vec<f64>) -> Spread {
+    if v.is_empty() {
+        return Spread {
+            median: f64::NAN,
+            p90: f64::NAN,
+            max: f64::NAN,
+        };
+    }
+    v.sort_by(f64::total_cmp);
+    let q = |p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
+    Spread {
+        median: q(0.5),
+        p90: q(0.9),
+        max: v[v.len() - 1],
+    }
 }
 
 #[cfg(test)]

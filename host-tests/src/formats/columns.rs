@@ -15,7 +15,7 @@
 //!
 //! Every problem is an error naming the line; nothing panics.
 
-use crate::recording::{content_lines, err, RecordingError};
+use crate::formats::recording::{content_lines, err, RecordingError};
 
 /// How the values become m/s^2.
 #[derive(Clone, Copy, Debug, PartialEq)]

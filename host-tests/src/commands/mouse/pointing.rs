@@ -25,9 +25,10 @@ use imu_core::{Config, Drift, Event, Tracker};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::mouse::Sensor;
-use crate::scene::min_jerk_accel;
-use crate::sim::{self, SimRng};
+use crate::stats::{spread, Spread};
+use crate::world::desk::Sensor;
+use crate::world::noise::{self, SimRng};
+use crate::world::scene::min_jerk_accel;
 
 const FS: f64 = 3000.0;
 const CPI: f64 = 800.0;
@@ -72,7 +73,7 @@ struct Device {
 const REST_BEFORE_S: f64 = 10.0;
 
 fn calibrated(drift: Option<Drift>, seed: u64) -> Device {
-    let mut rng = sim::rng(seed ^ 0xCA11);
+    let mut rng = noise::rng(seed ^ 0xCA11);
     let mut sensor = Sensor::new(&mut rng);
     let mut t = Tracker::new(&Config {
         drift,
@@ -97,7 +98,7 @@ fn calibrated(drift: Option<Drift>, seed: u64) -> Device {
 fn run(device: &Device, seed: u64, n: usize, input: impl Fn(usize) -> Input) -> Vec<[f64; 2]> {
     let mut t = device.tracker;
     let mut sensor = device.sensor.clone();
-    let mut rng = sim::rng(seed);
+    let mut rng = noise::rng(seed);
     let mut pos = [0i64; 2];
     let mut out = Vec::with_capacity(n / 3 + 1);
     for i in 0..n {
@@ -131,35 +132,6 @@ fn travel(path: &[[f64; 2]], from: usize, to: usize) -> f64 {
 
 fn samples(s: f64) -> usize {
     (s * FS).round() as usize
-}
-
-/// Median and 90th percentile.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Spread {
-    /// Median.
-    pub median: f64,
-    /// 90th percentile.
-    pub p90: f64,
-    /// Largest.
-    pub max: f64,
-}
-
-/// Median, 90th percentile and maximum of `v` (NaN for none).
-pub fn spread(mut v: Vec<f64>) -> Spread {
-    if v.is_empty() {
-        return Spread {
-            median: f64::NAN,
-            p90: f64::NAN,
-            max: f64::NAN,
-        };
-    }
-    v.sort_by(f64::total_cmp);
-    let q = |p: f64| v[((v.len() - 1) as f64 * p).round() as usize];
-    Spread {
-        median: q(0.5),
-        p90: q(0.9),
-        max: v[v.len() - 1],
-    }
 }
 
 fn uniform(rng: &mut SimRng, lo: f64, hi: f64) -> f64 {
@@ -225,7 +197,7 @@ pub struct Strokes {
 /// Runs target 1's scene.
 pub fn strokes(drift: Option<Drift>, n: usize, seed: u64) -> Strokes {
     let device = calibrated(drift, seed);
-    let mut rng = sim::rng(seed ^ 0x57);
+    let mut rng = noise::rng(seed ^ 0x57);
     let plan: Vec<(f64, f64, f64)> = (0..n)
         .map(|_| {
             (
@@ -315,7 +287,7 @@ fn figure_length(eight: bool, r: f64, total: f64) -> (f64, f64) {
 /// Runs target 2's scene.
 pub fn continuous(drift: Option<Drift>, n: usize, seed: u64) -> Continuous {
     let device = calibrated(drift, seed);
-    let mut rng = sim::rng(seed ^ 0xC1);
+    let mut rng = noise::rng(seed ^ 0xC1);
     let plan: Vec<(bool, f64, f64)> = (0..n)
         .map(|k| {
             let eight = k % 2 == 1;
@@ -432,7 +404,7 @@ fn knock_accel(t: f64, peak: f64) -> f64 {
 /// Runs target 3's scene: `n` re-placement trials and `n` tilt trials.
 pub fn tilts(drift: Option<Drift>, n: usize, seed: u64) -> Tilts {
     let device = calibrated(drift, seed);
-    let mut rng = sim::rng(seed ^ 0x717);
+    let mut rng = noise::rng(seed ^ 0x717);
     let angles: Vec<[f64; 2]> = (0..n)
         .map(|_| {
             let (th, az) = (
@@ -524,7 +496,7 @@ pub struct Knocks {
 /// horizontal share of up to 1/2.
 pub fn knocks(drift: Option<Drift>, n: usize, seed: u64) -> Knocks {
     let device = calibrated(drift, seed);
-    let mut rng = sim::rng(seed ^ 0x4B);
+    let mut rng = noise::rng(seed ^ 0x4B);
     let plan: Vec<(f64, f64, f64)> = (0..n)
         .map(|_| {
             (

@@ -157,9 +157,10 @@ mod tests {
         // fitted point rests on >= 100 independent differences (relative sd <= 1 / sqrt(2 *
         // 100 / 1.5) = 8.7 %), averaged over ~10 points in logs: about 3 %; the 5 % bound is
         // well over 1.5 of those.
-        let mut rng = crate::sim::rng(5);
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(5);
         let y: Vec<f64> = (0..200_000)
-            .map(|_| 0.05 * crate::sim::normal(&mut rng))
+            .map(|_| 0.05 * rng.sample::<f64, _>(rand_distr::StandardNormal))
             .collect();
         let f = figures(&oadev(&y, 100.0)).expect("enough data");
         assert!((f.vrw_m_s_rts / 0.005 - 1.0).abs() < 0.05, "{f:?}");

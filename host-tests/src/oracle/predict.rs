@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::reference as r;
+use crate::oracle::reference as r;
 
 /// Largest `N = t * fs` accepted: the exact integer forms of REFERENCE (c) hold to `2^40`.
 pub const N_MAX: f64 = 1e12;

@@ -1,5 +1,5 @@
 //! `cargo lab twin`: the firmware's application (`imu_app`) and the core, unchanged, run on
-//! the host in real time as a USB/IP device ([`crate::usbip`]), fed by a scene or a
+//! the host in real time as a USB/IP device ([`crate::device::usbip`]), fed by a scene or a
 //! recording instead of the ADC.
 //!
 //! # Design
@@ -27,7 +27,7 @@ use rtic_core::Exclusive;
 use serde::Serialize;
 use usb_device::bus::UsbBusAllocator;
 
-use crate::usbip::{Listing, Traffic, UsbIpBus};
+use crate::device::usbip::{Listing, Traffic, UsbIpBus};
 
 /// The device's inputs: ADC codes and the finger on KEY, sample by sample.
 #[derive(Clone, Debug)]

@@ -18,7 +18,7 @@
 //! The analog filter is applied to the sensor noise only: a bias and hand motion (below 10 Hz)
 //! pass a filter at tens of Hz unchanged, so filtering them would model nothing.
 
-use crate::sim::{self, SimRng};
+use crate::world::noise::{self, SimRng};
 
 /// One additive effect, in m/s^2.
 #[derive(Clone, Debug)]
@@ -62,7 +62,7 @@ pub enum Source {
 #[derive(Clone, Debug)]
 enum Running {
     White(f64),
-    Filtered(sim::Ar1),
+    Filtered(noise::Ar1),
     Bias(f64),
     BiasWalk {
         step_sd: f64,
@@ -90,7 +90,7 @@ pub struct Adc {
 impl Adc {
     /// The code for an acceleration `a` [m/s^2].
     pub fn code(&self, a: f64) -> u16 {
-        sim::Adc { bits: self.bits }.code(self.mid + a / self.m_s2_per_lsb)
+        noise::Adc { bits: self.bits }.code(self.mid + a / self.m_s2_per_lsb)
     }
 }
 
@@ -127,7 +127,7 @@ impl Scene {
                 Source::Filtered { sigma_c, fc } => {
                     let alpha = 2.0 * std::f64::consts::PI * fc / self.fs;
                     let r0 = sigma_c * sigma_c * std::f64::consts::PI * fc / 2.0;
-                    Running::Filtered(sim::Ar1::new(r0, alpha, rng))
+                    Running::Filtered(noise::Ar1::new(r0, alpha, rng))
                 }
                 Source::Bias { value } => Running::Bias(value),
                 Source::BiasWalk { k } => Running::BiasWalk {
@@ -161,11 +161,11 @@ impl Run<'_> {
         self.running
             .iter_mut()
             .map(|r| match r {
-                Running::White(sd) => *sd * sim::normal(rng),
+                Running::White(sd) => *sd * noise::normal(rng),
                 Running::Filtered(ar) => ar.next(rng),
                 Running::Bias(b) => *b,
                 Running::BiasWalk { step_sd, b } => {
-                    *b += *step_sd * sim::normal(rng);
+                    *b += *step_sd * noise::normal(rng);
                     *b
                 }
                 Running::Stroke {
@@ -199,7 +199,7 @@ impl Scene {
             ..self.clone()
         };
         let mut rngs: Vec<SimRng> = (0..3)
-            .map(|k| sim::rng(seed.wrapping_mul(3).wrapping_add(k)))
+            .map(|k| noise::rng(seed.wrapping_mul(3).wrapping_add(k)))
             .collect();
         let mut runs: Vec<Run<'_>> = [self, &rest, &rest]
             .iter()
@@ -232,19 +232,6 @@ impl Scene {
             })
             .sum();
         (var + self.adc.m_s2_per_lsb.powi(2) / 12.0).sqrt()
-    }
-
-    /// The device configuration for this scene's sensor: its rate, scale and ADC, and an
-    /// at-rest bound of 4x its own noise (the default's margin for an ADXL335: 0.1 m/s^2
-    /// against 0.026 m/s^2); everything else the default.
-    pub fn config(&self) -> imu_core::Config {
-        imu_core::Config {
-            fs_hz: self.fs as u32,
-            m_s2_per_lsb: self.adc.m_s2_per_lsb,
-            adc_bits: self.adc.bits,
-            rest_noise_max_m_s2: 4.0 * self.noise_rms_m_s2(),
-            ..imu_core::Config::default()
-        }
     }
 
     /// The total distance of this scene's strokes [m] (the true displacement along X).

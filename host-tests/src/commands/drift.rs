@@ -14,7 +14,7 @@
 use imu_core::{AdcCode, Axis, Config};
 use serde::Serialize;
 
-use crate::allan::Figures;
+use crate::stats::allan::Figures;
 use crate::stats::MeanSquare;
 
 /// One row: one axis at one T.
@@ -170,4 +170,94 @@ pub fn table(rows: &[Row]) -> String {
     }
     out += "RMS position error [m] of pure double integration after calibration, over independent segments.\n";
     out
+}
+
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str = "cargo lab drift host-tests/data/mpu6050-static-100hz.csv --columns ax,ay,az --scale 0.000598550415039 --calibrate-s 10 --t 1,5,20";
+
+/// `cargo lab drift`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The recording.
+    #[command(flatten)]
+    pub rec: super::Recording,
+    /// Calibration window at the start of each segment [s].
+    #[arg(long, allow_negative_numbers = true)]
+    pub calibrate_s: f64,
+    /// Integration times [s], comma separated.
+    #[arg(
+        long = "t",
+        allow_negative_numbers = true,
+        value_delimiter = ',',
+        required = true
+    )]
+    pub t: Vec<f64>,
+    /// Directory for the plot.
+    #[arg(long, default_value = "target/lab/drift")]
+    pub out: std::path::PathBuf,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `cargo lab drift`.
+///
+/// # Errors
+/// A bad argument, an unreadable recording, or segments too short for the times asked.
+pub fn run(a: &Args) -> super::Outcome {
+    use super::{positive, Error, COLORS};
+    use crate::formats::plot;
+    use crate::stats::allan;
+    let Some(scale) = a.rec.scale else {
+        return Err(Error::arg(
+            "scale",
+            "missing",
+            "the drift experiment runs the core on raw counts; give their scale",
+        ));
+    };
+    positive("calibrate-s", a.calibrate_s)?;
+    for &t in &a.t {
+        positive("t", t)?;
+    }
+    let d = a.rec.read()?;
+    let figs = d
+        .m_s2
+        .iter()
+        .map(|y| allan::figures(&allan::oadev(y, d.fs)))
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| Error::file(&a.rec.file, "too few taus for the noise figures"))?;
+    let rows = experiment(&d.names, &d.raw, d.fs, scale, a.calibrate_s, &a.t, &figs)
+        .map_err(Error::Input)?;
+    let mut p = plot::Plot {
+        title: format!(
+            "Position error after a {} s calibration: measured and predicted",
+            a.calibrate_s
+        ),
+        x_label: "T [s]".into(),
+        y_label: "RMS position error [m]".into(),
+        ..Default::default()
+    };
+    for (k, name) in d.names.iter().enumerate() {
+        let color = COLORS[k % COLORS.len()];
+        let mine: Vec<&Row> = rows.iter().filter(|r| &r.axis == name).collect();
+        p.points.push(plot::Points {
+            label: format!("{name}: measured, 95 %"),
+            color,
+            pts: mine
+                .iter()
+                .map(|r| (r.t_s, r.measured_m, r.ci_low_m, r.ci_high_m))
+                .collect(),
+        });
+        p.lines.push(plot::Line {
+            label: format!("{name}: predicted from the Allan figures"),
+            color,
+            dashed: false,
+            pts: mine.iter().map(|r| (r.t_s, r.predicted_m)).collect(),
+        });
+    }
+    let path = super::write_out(&a.out, "drift.svg", &p.to_svg())?;
+    if a.json {
+        return super::json(&serde_json::json!({ "rows": rows, "calibrate_s": a.calibrate_s }));
+    }
+    Ok(format!("{}plot: {}", table(&rows), path.display()))
 }

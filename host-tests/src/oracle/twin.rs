@@ -4,7 +4,16 @@
 //! Units follow the core: acceleration in ADC LSB, velocity in LSB * samples, position in
 //! LSB * samples^2 (multiply by `LSB / fs` and `LSB / fs^2` for SI).
 
-use imu_core::Scheme;
+/// The integration rule, REFERENCE (c): (i) rectangle (Euler), (ii) trapezoid. The oracle's
+/// own type: it shares nothing with the core it judges, so a caller states which rule it
+/// compares with which of the core's schemes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scheme {
+    /// `v += a; s += v`.
+    Euler,
+    /// `v += (a[n-1] + a[n]) / 2; s += (v[n-1] + v[n]) / 2`, from the second sample.
+    Trapezoid,
+}
 
 /// Single-pole low-pass `y += k (x - y)` in f64.
 #[derive(Clone, Copy, Debug)]

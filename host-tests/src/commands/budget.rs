@@ -21,9 +21,9 @@
 use imu_core::{AdcCode, Config, Lowpass, LowpassState, Scheme, Tracker};
 use serde::Serialize;
 
-use crate::reference as r;
-use crate::sim::{self, Adc};
-use crate::twin;
+use crate::oracle::reference as r;
+use crate::oracle::twin;
+use crate::world::noise::{self, Adc};
 
 const Q16: f64 = 65_536.0;
 const HALF_Q16_LSB: f64 = 1.0 / 131_072.0; // 2^-17 LSB
@@ -57,10 +57,10 @@ fn max_abs(v: &[f64]) -> f64 {
 
 /// Codes of white noise `sigma` LSB around `mid`, quantised by a 12-bit ADC.
 fn noise_codes(n: usize, mid: f64, sigma: f64, seed: u64) -> Vec<u16> {
-    let mut rng = sim::rng(seed);
+    let mut rng = noise::rng(seed);
     let adc = Adc { bits: 12 };
     (0..n)
-        .map(|_| adc.code(mid + sigma * sim::normal(&mut rng)))
+        .map(|_| adc.code(mid + sigma * noise::normal(&mut rng)))
         .collect()
 }
 
@@ -128,7 +128,10 @@ pub fn calibration(trials: usize, window: usize, seed: u64) -> [Row; 2] {
 /// The double integrator against f64 on integer inputs (exact in f64 below 2^53).
 pub fn integrator(scheme: Scheme, n: usize, seed: u64) -> Row {
     let mut fixed = imu_core::IntegratorState::default();
-    let mut f = twin::Integrator::new(scheme);
+    let mut f = twin::Integrator::new(match scheme {
+        Scheme::Euler => twin::Scheme::Euler,
+        Scheme::Trapezoid => twin::Scheme::Trapezoid,
+    });
     let mut errs = vec![];
     for c in noise_codes(n, 2048.0, 300.0, seed) {
         let a = i64::from(c) - 2048;
@@ -158,7 +161,7 @@ pub fn readout(n: usize, seed: u64) -> Row {
     tracker.feed(&[[2048; 3]; 3000]);
     let settings = *tracker.settings();
     let k = settings.readout().counts_per_unit();
-    let mut f = twin::Integrator::new(Scheme::Euler);
+    let mut f = twin::Integrator::new(twin::Scheme::Euler);
     let (mut total, mut errs, mut worst_bound) = (0i64, vec![], 0.0f64);
     for (i, c) in noise_codes(n, 2048.0, 40.0, seed).into_iter().enumerate() {
         tracker.feed(&[[c, 2048, 2048]]);
@@ -205,16 +208,16 @@ pub fn pipeline(t_s: f64, trials: usize, seed: u64) -> Row {
         let mut f = twin::Axis {
             lowpass: Some(twin::Lowpass::realised(k_q32, mean)),
             bias: mean,
-            integrator: twin::Integrator::new(Scheme::Euler),
+            integrator: twin::Integrator::new(twin::Scheme::Euler),
         };
-        let mut rng = sim::rng(seed + 2 * t as u64 + 1);
+        let mut rng = noise::rng(seed + 2 * t as u64 + 1);
         let adc = Adc { bits: 12 };
         let mut buf = Vec::with_capacity(4096);
         let mut left = n;
         while left > 0 {
             buf.clear();
             for _ in 0..left.min(4096) {
-                let c = adc.code(mid + 1.5 * sim::normal(&mut rng));
+                let c = adc.code(mid + 1.5 * noise::normal(&mut rng));
                 f.update(c);
                 buf.push([c, 2048, 2048]);
             }
@@ -279,4 +282,31 @@ pub fn table(rows: &[Row]) -> String {
         );
     }
     out
+}
+
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str = "cargo lab budget --quick";
+
+/// `cargo lab budget`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Fewer samples (the test suite's size) and no 1 h pipeline run.
+    #[arg(long)]
+    pub quick: bool,
+    /// Print JSON rows instead of the Markdown table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `cargo lab budget`.
+///
+/// # Errors
+/// None in practice (JSON encoding).
+pub fn run(a: &Args) -> super::Outcome {
+    let rows = all(a.quick);
+    if a.json {
+        super::json(&rows)
+    } else {
+        Ok(table(&rows))
+    }
 }

@@ -79,3 +79,36 @@ pub fn listing(w: &Wire) -> String {
     }
     out
 }
+
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str = "cargo lab hid --dx 300 --dy -5 --buttons 1";
+
+/// `cargo lab hid`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Motion to the right [counts].
+    #[arg(long, allow_negative_numbers = true)]
+    pub dx: i64,
+    /// Motion downwards [counts] (HID convention).
+    #[arg(long, allow_negative_numbers = true)]
+    pub dy: i64,
+    /// Buttons held: 1 left, 2 right, 4 middle, summed.
+    #[arg(long, default_value_t = 0)]
+    pub buttons: u32,
+    /// Print `{"descriptor_hex": .., "reports_hex": [..]}` instead of the listing.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `cargo lab hid`.
+///
+/// # Errors
+/// A motion or a button set out of range.
+pub fn run(a: &Args) -> super::Outcome {
+    let w = wire(a.dx, a.dy, a.buttons).map_err(|e| super::Error::Input(e.to_string()))?;
+    if a.json {
+        Ok(serde_json::to_string(&w)?)
+    } else {
+        Ok(listing(&w))
+    }
+}

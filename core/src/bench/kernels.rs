@@ -1,10 +1,10 @@
 //! Benchmark kernels: each runs one stage or pipeline over a block of codes and folds every
 //! output into a [`Checksum`]. The QEMU speed harness times them per block; the host runs
-//! the same kernels on the same [`crate::testsignal::Trace`] and must get the same checksum,
+//! the same kernels on the same [`crate::bench::testsignal::Trace`] and must get the same checksum,
 //! bit for bit. Not used by the device.
 
-use crate::testsignal::Checksum;
-use crate::variants::{F32Pipeline, NarrowPipeline};
+use crate::bench::testsignal::Checksum;
+use crate::bench::variants::{F32Pipeline, NarrowPipeline};
 use crate::{
     AdcCode, Axis, Config, IntegratorState, Lowpass, LowpassState, Readout, ReadoutState, Scheme,
     Settings, Tracker,
@@ -118,7 +118,7 @@ impl Default for TrackerDrift {
         let Ok(mut tracker) = Tracker::new(&Config::default()) else {
             unreachable!("the default configuration is valid")
         };
-        let mut quiet = crate::testsignal::Trace::new(0x0CA1);
+        let mut quiet = crate::bench::testsignal::Trace::new(0x0CA1);
         while tracker.phase() == crate::Phase::Calibrating {
             let d = i32::from(quiet.next_code() % 3) - 1;
             let c = (2048 + d) as u16;

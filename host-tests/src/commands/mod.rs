@@ -1,0 +1,224 @@
+//! One module per `cargo lab` subcommand: its arguments (`Args`), its `run`, its table.
+//!
+//! # Conventions, the same in every command
+//! - the result goes to stdout, as a table or, with `--json`, as JSON only;
+//! - `--seed N` seeds every random draw of the run: the same seed gives the same output;
+//! - `--out DIR` is the directory for the files a command writes (plots), created if missing,
+//!   `target/lab/<command>` unless given;
+//! - errors go to stderr as `error: ...` naming the bad argument or file; the exit status is 2
+//!   for a bad argument, 1 for a run that failed (a file, a check);
+//! - a run that fails its own check (`reproduce`, `speed`) still prints its table, then fails;
+//! - long runs show progress on stderr when it is a terminal, never with `--json`;
+//! - a closed stdout (`cargo lab ... | head`) ends the run quietly.
+//!
+//! Commands never use each other; what two share lives in the layers below (or here, for
+//! argument groups such as [`Recording`]).
+
+use std::fmt;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+pub mod allan;
+pub mod budget;
+pub mod drift;
+pub mod hid;
+pub mod mouse;
+pub mod predict;
+pub mod replay;
+pub mod reproduce;
+pub mod simulate;
+pub mod speed;
+pub mod twin;
+
+/// Why a command failed.
+#[derive(Debug)]
+pub enum Error {
+    /// An argument out of its range: `--{name} {value}: {why}`.
+    Arg {
+        /// The argument's long name, without dashes.
+        name: &'static str,
+        /// The value given.
+        value: String,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// Inputs that the run's own validation refused; the message names the argument.
+    Input(String),
+    /// A file that could not be read, parsed or written.
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        why: String,
+    },
+    /// The run completed but did not come out as it must; `report` is still printed.
+    Check {
+        /// The full report (table or JSON).
+        report: String,
+        /// What failed.
+        why: String,
+    },
+    /// Anything else, with its message.
+    Run(String),
+}
+
+impl Error {
+    /// A bad argument `--{name} {value}`.
+    pub fn arg(name: &'static str, value: impl fmt::Display, why: impl Into<String>) -> Self {
+        Self::Arg {
+            name,
+            value: value.to_string(),
+            why: why.into(),
+        }
+    }
+
+    /// A file error.
+    pub fn file(path: &Path, why: impl fmt::Display) -> Self {
+        Self::File {
+            path: path.to_path_buf(),
+            why: why.to_string(),
+        }
+    }
+
+    /// The process exit status for this error: 2 for a bad argument, else 1.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Self::Arg { .. } | Self::Input(_) => 2,
+            _ => 1,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Arg { name, value, why } => write!(f, "--{name} {value}: {why}"),
+            Self::File { path, why } => write!(f, "{}: {why}", path.display()),
+            Self::Input(why) | Self::Check { why, .. } | Self::Run(why) => f.write_str(why),
+        }
+    }
+}
+
+impl std::error::Error for Error {}
+
+impl From<serde_json::Error> for Error {
+    fn from(e: serde_json::Error) -> Self {
+        Self::Run(format!("JSON: {e}"))
+    }
+}
+
+/// What a command returns: the text for stdout, or why it failed.
+pub type Outcome = Result<String, Error>;
+
+/// `v` if it is finite and > 0, else an error naming `--{name}`.
+pub fn positive(name: &'static str, v: f64) -> Result<f64, Error> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::arg(name, v, "must be a finite number > 0"))
+    }
+}
+
+/// `value` as pretty JSON.
+pub fn json(value: &impl serde::Serialize) -> Outcome {
+    Ok(serde_json::to_string_pretty(value)?)
+}
+
+/// Reads a text file.
+pub fn read(path: &Path) -> Result<String, Error> {
+    std::fs::read_to_string(path).map_err(|e| Error::file(path, e))
+}
+
+/// Writes `name` into the `--out` directory `dir` (created if missing); returns its path.
+pub fn write_out(dir: &Path, name: &str, contents: &str) -> Result<PathBuf, Error> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::file(dir, e))?;
+    let path = dir.join(name);
+    std::fs::write(&path, contents).map_err(|e| Error::file(&path, e))?;
+    Ok(path)
+}
+
+/// Progress on stderr, shown only when stderr is a terminal and the output is not JSON: a bar
+/// of `len` steps of `unit`, or for `len == 0` a spinner with the current stage's message.
+pub fn progress(len: u64, json: bool, unit: &str) -> ProgressBar {
+    if json || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    if len == 0 {
+        let bar = ProgressBar::new_spinner();
+        bar.set_style(
+            ProgressStyle::with_template("{spinner} {msg} {elapsed}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        bar.enable_steady_tick(std::time::Duration::from_millis(100));
+        return bar;
+    }
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template(&format!("{{bar:40}} {{pos}}/{{len}} {unit} {{elapsed}}"))
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// Colours of the lines of one chart, in order.
+pub const COLORS: [&str; 6] = [
+    "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b",
+];
+
+/// A recording to analyse (`allan`, `drift`): the file, its columns, rate and units.
+#[derive(clap::Args, Clone, Debug)]
+pub struct Recording {
+    /// The CSV file (a header row; metadata lines before it are skipped).
+    pub file: PathBuf,
+    /// Columns to analyse, by header name.
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub columns: Vec<String>,
+    /// Sampling rate [Hz] (else a time column or an `fs,<Hz>` metadata line).
+    #[arg(long, allow_negative_numbers = true)]
+    pub fs: Option<f64>,
+    /// A time column [s] to take the rate from (gaps and jitter are reported).
+    #[arg(long)]
+    pub time_column: Option<String>,
+    /// Values are raw counts of this many m/s^2 each.
+    #[arg(long, allow_negative_numbers = true, conflicts_with = "units")]
+    pub scale: Option<f64>,
+    /// Values are already in `g` or `m_s2`.
+    #[arg(long)]
+    pub units: Option<String>,
+}
+
+impl Recording {
+    /// Reads and checks the recording.
+    ///
+    /// # Errors
+    /// Units not given or unknown; the file unreadable or not as described.
+    pub fn read(&self) -> Result<crate::formats::columns::Data, Error> {
+        use crate::formats::columns::{self, Units};
+        let units = match (self.scale, self.units.as_deref()) {
+            (Some(s), _) => Units::Counts(positive("scale", s)?),
+            (None, Some("g")) => Units::G,
+            (None, Some("m_s2")) => Units::MS2,
+            (None, Some(u)) => return Err(Error::arg("units", u, "`g` or `m_s2`")),
+            (None, None) => {
+                return Err(Error::arg(
+                    "scale",
+                    "missing",
+                    "give --scale M_S2_PER_COUNT for raw counts, or --units g|m_s2",
+                ))
+            }
+        };
+        let text = read(&self.file)?;
+        columns::read(
+            &text,
+            &columns::Options {
+                columns: self.columns.clone(),
+                fs: self.fs,
+                time_column: self.time_column.clone(),
+                units,
+            },
+        )
+        .map_err(|e| Error::file(&self.file, e))
+    }
+}

@@ -1,0 +1,79 @@
+//! `cargo lab simulate`: one scene of the catalogue through the whole device
+//! ([`crate::device::track`]): the cursor's track and what the device sends.
+
+use crate::device::track;
+use crate::world::scene;
+
+use super::{positive, Error, Outcome};
+
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str = "cargo lab simulate --scene adxl335-stroke --seconds 3";
+
+/// `cargo lab simulate`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene name (an unknown name lists them).
+    #[arg(long)]
+    pub scene: String,
+    /// Length [s], including the 1 s calibration at the start.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 5.0)]
+    pub seconds: f64,
+    /// Seed of every random draw (the same seed, the same output).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Interval of the printed track [s].
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.5)]
+    pub every: f64,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the codes as a recording (`fs,<Hz>` line, `n,x,y,z` header), for
+    /// `cargo lab allan` / `drift` / `replay`.
+    #[arg(long)]
+    pub csv: Option<std::path::PathBuf>,
+}
+
+/// Runs `cargo lab simulate`.
+///
+/// # Errors
+/// An unknown scene, a bad length or interval, an unwritable `--csv`.
+pub fn run(a: &Args) -> Outcome {
+    let scenes = scene::catalogue();
+    let Some(sc) = scenes.iter().find(|s| s.name == a.scene) else {
+        let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();
+        return Err(Error::arg(
+            "scene",
+            &a.scene,
+            format!("unknown; the scenes are {}", names.join(", ")),
+        ));
+    };
+    let seconds = positive("seconds", a.seconds)?;
+    let every = positive("every", a.every)?;
+    let config = track::scene_config(sc);
+    let samples = sc.three_axes(seconds, a.seed);
+    if let Some(path) = &a.csv {
+        let mut csv = format!(
+            "# cargo lab simulate --scene {} --seconds {seconds} --seed {}\nfs,{}\nn,x,y,z\n",
+            sc.name, a.seed, sc.fs
+        );
+        for (i, s) in samples.iter().enumerate() {
+            csv += &format!("{i},{},{},{}\n", s[0], s[1], s[2]);
+        }
+        std::fs::write(path, csv).map_err(|e| Error::file(path, e))?;
+    }
+    let t = track::run(&config, samples, every).map_err(|e| Error::Run(e.to_string()))?;
+    if a.json {
+        return super::json(&t);
+    }
+    let mut header = format!("scene {}: {}\n", sc.name, sc.about);
+    let d = sc.stroke_distance_m();
+    if d != 0.0 {
+        header += &format!(
+            "true motion: {:.1} mm right = {:.1} counts at {} cpi\n",
+            d * 1e3,
+            d / 0.0254 * f64::from(config.counts_per_inch),
+            config.counts_per_inch
+        );
+    }
+    Ok(header + &track::table(&t))
+}

@@ -1,0 +1,135 @@
+//! `cargo lab twin`: the firmware's application as a USB/IP mouse on this host
+//! ([`crate::device::twin`]), fed in real time by the desk scene or a recording. KEY is
+//! pressed and released by `press` and `release` lines on stdin.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use crate::device::twin;
+use crate::formats::recording;
+use crate::world::desk;
+
+use super::{positive, Error, Outcome};
+
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str = "cargo lab twin --seconds 30   (then: usbip attach -r 127.0.0.1 -b 1-1)";
+
+/// `cargo lab twin`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The scene: `desk` (strokes, rests and clicks) or `rest` (the hand still).
+    #[arg(long, default_value = "desk", conflicts_with = "replay")]
+    pub scene: String,
+    /// Play a recording (CSV of ADC codes, as `cargo lab replay`) instead of a scene.
+    #[arg(long)]
+    pub replay: Option<std::path::PathBuf>,
+    /// Play at most this long [s] (default: the whole scene or recording).
+    #[arg(long, allow_negative_numbers = true)]
+    pub seconds: Option<f64>,
+    /// Strokes in the desk scene.
+    #[arg(long, default_value_t = 20)]
+    pub strokes: usize,
+    /// Seed of every random draw (the same seed, the same scene).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// USB/IP address to listen on.
+    #[arg(long, default_value = "127.0.0.1:3240")]
+    pub addr: std::net::SocketAddr,
+    /// How long to wait for a host to configure the device [s].
+    #[arg(long, allow_negative_numbers = true, default_value_t = 60.0)]
+    pub wait_host: f64,
+    /// Print JSON instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// The device's inputs for the scene or recording asked for.
+fn input(a: &Args) -> Result<twin::Input, Error> {
+    let mut input = match &a.replay {
+        Some(file) => {
+            let text = super::read(file)?;
+            let rec = recording::parse(&text, None).map_err(|e| Error::file(file, e))?;
+            twin::Input {
+                fs_hz: rec.fs,
+                codes: rec.samples,
+                held: Vec::new(),
+            }
+        }
+        None => {
+            let strokes = match a.scene.as_str() {
+                "desk" => a.strokes,
+                "rest" => 0,
+                other => return Err(Error::arg("scene", other, "`desk` or `rest`")),
+            };
+            let (codes, held) = desk::stream(strokes, a.seed);
+            twin::Input {
+                fs_hz: desk::FS as u32,
+                codes,
+                held,
+            }
+        }
+    };
+    if let Some(s) = a.seconds {
+        positive("seconds", s)?;
+        let n = (s * f64::from(input.fs_hz)) as usize;
+        input.codes.truncate(n);
+        input.held.truncate(n);
+    }
+    Ok(input)
+}
+
+/// KEY, held while the last line on stdin was `press` and not yet `release`.
+fn operator_key() -> Arc<AtomicBool> {
+    let operator = Arc::new(AtomicBool::new(false));
+    let key = operator.clone();
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lines().map_while(Result::ok) {
+            match line.trim() {
+                "press" => key.store(true, Ordering::Relaxed),
+                "release" => key.store(false, Ordering::Relaxed),
+                _ => {}
+            }
+        }
+    });
+    operator
+}
+
+/// Runs `cargo lab twin` until the scene has played and the host has drained it.
+///
+/// # Errors
+/// A bad argument or recording; the socket; no host within `--wait-host`.
+pub fn run(a: &Args) -> Outcome {
+    let input = input(a)?;
+    positive("wait-host", a.wait_host)?;
+    let operator = operator_key();
+    eprintln!(
+        "twin: USB/IP device on {} (bus id 1-1); waiting for a host",
+        a.addr
+    );
+    let settings = twin::Settings {
+        addr: a.addr,
+        wait_host_s: a.wait_host,
+        drain_s: 2.0,
+    };
+    let s = twin::run(&input, settings, operator).map_err(|e| Error::Run(e.to_string()))?;
+    if a.json {
+        return Ok(serde_json::to_string(&s)?);
+    }
+    Ok(format!(
+        "twin: {:.1} s at {} Hz, {} reports (peak {} per s), {} URBs, {} stalls\n\
+         counts (x, y): produced {:?}, sent {:?}, discarded {:?}, owed {:?}; accounted: {}\n\
+         late housekeeping ticks: {}",
+        s.scene_s,
+        s.fs_hz,
+        s.reports,
+        s.peak_report_rate_hz,
+        s.urbs,
+        s.stalls,
+        s.produced,
+        s.sent,
+        s.discarded,
+        s.undelivered,
+        s.accounted,
+        s.late_ticks
+    ))
+}
