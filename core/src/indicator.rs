@@ -115,55 +115,36 @@ mod tests {
 
     #[test]
     fn choice_follows_the_documented_precedence() {
+        use Indicator as I;
         use LastCalibration::*;
         use Link::*;
-        // Suspended stays dark whatever else holds.
-        assert_eq!(
-            Indicator::choose(Suspended, false, false, Clipped),
-            Indicator::Suspended
-        );
-        // No data outranks the sensor, USB and the phase.
-        assert_eq!(
-            Indicator::choose(Configured, false, true, Fine),
-            Indicator::NoData
-        );
-        assert_eq!(
-            Indicator::choose(NotConfigured, false, false, Clipped),
-            Indicator::NoData
-        );
-        // A rail outranks USB, but only while calibrating.
-        assert_eq!(
-            Indicator::choose(NotConfigured, true, false, Clipped),
-            Indicator::Fault
-        );
-        assert_eq!(
-            Indicator::choose(Configured, true, true, Clipped),
-            Indicator::Tracking
-        );
-        assert_eq!(
-            Indicator::choose(NotConfigured, true, true, Fine),
-            Indicator::NotConfigured
-        );
-        assert_eq!(
-            Indicator::choose(NotConfigured, true, false, Fine),
-            Indicator::NotConfigured
-        );
-        assert_eq!(
-            Indicator::choose(Configured, true, false, Clipped),
-            Indicator::Fault
-        );
-        assert_eq!(
-            Indicator::choose(Configured, true, false, Moved { ms: 999 }),
-            Indicator::Rejected
-        );
-        assert_eq!(
-            Indicator::choose(Configured, true, false, Moved { ms: 1000 }),
-            Indicator::Calibrating
-        );
-        assert_eq!(
-            Indicator::choose(Configured, true, false, Fine),
-            Indicator::Calibrating
-        );
+        // (link, arrives, tracking, last calibration) -> pattern
+        let cases = [
+            // Suspended stays dark whatever else holds.
+            ((Suspended, false, false, Clipped), I::Suspended),
+            // No data outranks the sensor, USB and the phase.
+            ((Configured, false, true, Fine), I::NoData),
+            ((NotConfigured, false, false, Clipped), I::NoData),
+            // A rail outranks USB, but only while calibrating.
+            ((NotConfigured, true, false, Clipped), I::Fault),
+            ((Configured, true, true, Clipped), I::Tracking),
+            ((NotConfigured, true, true, Fine), I::NotConfigured),
+            ((NotConfigured, true, false, Fine), I::NotConfigured),
+            ((Configured, true, false, Clipped), I::Fault),
+            ((Configured, true, false, Moved { ms: 999 }), I::Rejected),
+            (
+                (Configured, true, false, Moved { ms: 1000 }),
+                I::Calibrating,
+            ),
+            ((Configured, true, false, Fine), I::Calibrating),
+        ];
+        for ((link, arrives, tracking, last), want) in cases {
+            assert_eq!(
+                Indicator::choose(link, arrives, tracking, last),
+                want,
+                "{link:?} arrives {arrives} tracking {tracking} {last:?}"
+            );
+        }
     }
 
     #[test]

@@ -11,7 +11,7 @@
 //! | [`stats`] | mean squares and z-scores, quantiles, Allan deviation | std only |
 //! | [`formats`] | recordings (CSV in), SVG charts (out) | std only |
 //! | [`world`] | sensor noise, ADC quantisation, scenes, the hand on a desk: ADC codes, never the core | `stats` |
-//! | [`device`] | the device on the host: the core and `imu_app` driven as the firmware drives them, the USB/IP bus | `imu_core`, `imu_app`, `world` |
+//! | [`device`] | the device on the host: the core and `imu_app` driven as the firmware drives them, the USB/IP bus | `imu_core`, `imu_app`, `world`, `stats` |
 //! | [`commands`] | one module per `cargo lab` subcommand: its arguments, its run, its table | everything above; never another command |
 //!
 //! `src/bin/lab.rs` only parses the command line and dispatches to [`commands`].

@@ -47,6 +47,29 @@ pub struct Row {
     pub rms_bound: Option<f64>,
 }
 
+impl Row {
+    /// The row of `errs`, the errors of `samples` samples (or trials) in `unit`, against the
+    /// derived bounds.
+    fn measured(
+        stage: String,
+        unit: &'static str,
+        samples: u64,
+        errs: &[f64],
+        max_bound: f64,
+        rms_bound: Option<f64>,
+    ) -> Self {
+        Self {
+            stage,
+            unit,
+            samples,
+            max_err: max_abs(errs),
+            rms_err: rms(errs),
+            max_bound,
+            rms_bound,
+        }
+    }
+}
+
 fn rms(v: &[f64]) -> f64 {
     (v.iter().map(|e| e * e).sum::<f64>() / v.len() as f64).sqrt()
 }
@@ -74,15 +97,14 @@ pub fn lowpass(ratio: f64, n: usize, seed: u64) -> Row {
         .map(|c| lp.process(&mut state, AdcCode(c)) as f64 / Q16 - f.process(f64::from(c)))
         .collect();
     let twin_err = 2.0 * f64::EPSILON * 4096.0 / f.k;
-    Row {
-        stage: format!("low-pass output, fc/fs = {ratio:.6}"),
-        unit: "LSB",
-        samples: n as u64,
-        max_err: max_abs(&errs),
-        rms_err: rms(&errs),
-        max_bound: HALF_Q16_LSB + 2f64.powi(-32) + twin_err,
-        rms_bound: Some(1.0 / Q16 / 12f64.sqrt() + twin_err),
-    }
+    Row::measured(
+        format!("low-pass output, fc/fs = {ratio:.6}"),
+        "LSB",
+        n as u64,
+        &errs,
+        HALF_Q16_LSB + 2f64.powi(-32) + twin_err,
+        Some(1.0 / Q16 / 12f64.sqrt() + twin_err),
+    )
 }
 
 /// Calibration over `trials` windows of `window` samples: bias and noise estimates.
@@ -104,24 +126,22 @@ pub fn calibration(trials: usize, window: usize, seed: u64) -> [Row; 2] {
         noise_errs.push(got.noise_rms_q16 as f64 / Q16 - sd);
     }
     [
-        Row {
-            stage: format!("calibration bias, {window}-sample window"),
-            unit: "LSB",
-            samples: trials as u64,
-            max_err: max_abs(&bias_errs),
-            rms_err: rms(&bias_errs),
-            max_bound: HALF_Q16_LSB,
-            rms_bound: Some(HALF_Q16_LSB / 3f64.sqrt()),
-        },
-        Row {
-            stage: format!("calibration noise rms, {window}-sample window"),
-            unit: "LSB",
-            samples: trials as u64,
-            max_err: max_abs(&noise_errs),
-            rms_err: rms(&noise_errs),
-            max_bound: 1.0 / Q16,
-            rms_bound: Some(1.0 / Q16 / 3f64.sqrt()),
-        },
+        Row::measured(
+            format!("calibration bias, {window}-sample window"),
+            "LSB",
+            trials as u64,
+            &bias_errs,
+            HALF_Q16_LSB,
+            Some(HALF_Q16_LSB / 3f64.sqrt()),
+        ),
+        Row::measured(
+            format!("calibration noise rms, {window}-sample window"),
+            "LSB",
+            trials as u64,
+            &noise_errs,
+            1.0 / Q16,
+            Some(1.0 / Q16 / 3f64.sqrt()),
+        ),
     ]
 }
 
@@ -139,15 +159,14 @@ pub fn integrator(scheme: Scheme, n: usize, seed: u64) -> Row {
         f.step(a as f64);
         errs.push(fixed.position() as f64 / 4.0 / Q16 - f.s);
     }
-    Row {
-        stage: format!("{scheme:?} double integration"),
-        unit: "LSB*samples^2",
-        samples: n as u64,
-        max_err: max_abs(&errs),
-        rms_err: rms(&errs),
-        max_bound: 0.0,
-        rms_bound: None,
-    }
+    Row::measured(
+        format!("{scheme:?} double integration"),
+        "LSB*samples^2",
+        n as u64,
+        &errs,
+        0.0,
+        None,
+    )
 }
 
 /// Read-out: counts delivered at 1 kHz from a 3 kHz axis, against the f64 position.
@@ -173,15 +192,14 @@ pub fn readout(n: usize, seed: u64) -> Row {
             worst_bound = worst_bound.max(0.5 + exact.abs() * 2f64.powi(-32));
         }
     }
-    Row {
-        stage: "read-out, counts taken at 1 kHz".into(),
-        unit: "counts",
-        samples: errs.len() as u64,
-        max_err: max_abs(&errs),
-        rms_err: rms(&errs),
-        max_bound: worst_bound,
-        rms_bound: Some(0.5 / 3f64.sqrt()),
-    }
+    Row::measured(
+        "read-out, counts taken at 1 kHz".into(),
+        "counts",
+        errs.len() as u64,
+        &errs,
+        worst_bound,
+        Some(0.5 / 3f64.sqrt()),
+    )
 }
 
 /// The whole pipeline of the default device with a 50 Hz digital low-pass: calibrate on a
@@ -232,15 +250,14 @@ pub fn pipeline(t_s: f64, trials: usize, seed: u64) -> Row {
     let to_m = lsb / (fs * fs);
     let bias_part = HALF_Q16_LSB / 3f64.sqrt() * nf * (nf + 1.0) / 2.0;
     let round_part = 1.0 / Q16 / 12f64.sqrt() * r::euler_sum(n as u64).sqrt();
-    Row {
-        stage: format!("pipeline position, T = {t_s} s (3 kHz, 50 Hz low-pass)"),
-        unit: "m",
-        samples: trials as u64,
-        max_err: max_abs(&errs),
-        rms_err: rms(&errs),
-        max_bound: 2.0 * HALF_Q16_LSB * nf * (nf + 1.0) / 2.0 * to_m,
-        rms_bound: Some((bias_part.powi(2) + round_part.powi(2)).sqrt() * to_m),
-    }
+    Row::measured(
+        format!("pipeline position, T = {t_s} s (3 kHz, 50 Hz low-pass)"),
+        "m",
+        trials as u64,
+        &errs,
+        2.0 * HALF_Q16_LSB * nf * (nf + 1.0) / 2.0 * to_m,
+        Some((bias_part.powi(2) + round_part.powi(2)).sqrt() * to_m),
+    )
 }
 
 /// Every budget row; `quick` runs fewer samples (the test suite's size).

@@ -8,7 +8,8 @@ use crate::world::scene;
 use super::{positive, Error, Outcome};
 
 /// One example, for `cargo lab` alone.
-pub const EXAMPLE: &str = "cargo lab replay target/lab/stroke.csv";
+pub const EXAMPLE: &str =
+    "cargo lab replay stroke.csv   (one to play: cargo lab simulate --scene adxl335-stroke --csv stroke.csv)";
 
 /// `cargo lab replay`.
 #[derive(clap::Args, Debug)]
