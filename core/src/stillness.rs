@@ -88,7 +88,7 @@ pub const REPLAY: usize = 64;
 
 /// One axis's filtered sums over one tick, compact ([`BlockSums`] without the tick's
 /// length and first sample, which the replay does not need).
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct TickSums {
     sum: i64,
     sum_of_prefixes: i64,
@@ -431,7 +431,7 @@ impl Noise {
 
 /// Widening of the steadiness tests (Q8 factors on the scatter bound and on the squared
 /// sd multiple).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Slack {
     scatter_q8: u128,
     k2_q8: u128,
@@ -467,7 +467,7 @@ const LEARN_TICKS: u32 = 16;
 const LEARN_BLOCKS: u64 = 128;
 
 /// The code sums of the last few ticks on each axis ([`Detector::window`]).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Window {
     sums: [u64; 3],
     /// Samples summed, `k D`.
@@ -498,7 +498,7 @@ impl Window {
 }
 
 /// Drift-control state of a three-axis device; see the module docs.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Detector {
     codes: [[u32; 3]; RING],
     sums: [[TickSums; 3]; REPLAY],

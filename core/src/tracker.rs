@@ -89,7 +89,7 @@ fn integrate_all(axes: &mut [Axis; AXES], s: &Settings, y: [i64; AXES]) {
 }
 
 /// Calibration and tracking of one device.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tracker {
     settings: Settings,
     phase: Phase,

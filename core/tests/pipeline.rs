@@ -127,11 +127,18 @@ fn bad_reconfigure_leaves_tracker_untouched() {
     let mut t = Tracker::new(&cfg()).expect("valid");
     t.feed(&[[2048, 2048, 2048]; 3000]);
     assert_eq!(t.phase(), Phase::Tracking);
-    let before = *t.settings();
+    // Motion in progress, counts owed: a refused configuration must leave every bit of it.
+    t.feed(&[[2100, 2000, 2048]; 300]);
+    let before = t;
     let err = t.reconfigure(&Config { fs_hz: 0, ..cfg() });
     assert_eq!(err, Err(ConfigError::SampleRate { fs_hz: 0 }));
-    assert_eq!(*t.settings(), before);
-    assert_eq!(t.phase(), Phase::Tracking);
+    assert_eq!(t, before, "the whole state, not only settings and phase");
+    let err = t.reconfigure(&Config {
+        lowpass_fc_hz: Some(2000.0),
+        ..cfg()
+    });
+    assert!(err.is_err());
+    assert_eq!(t, before);
     t.reconfigure(&Config {
         fs_hz: 1000,
         ..cfg()

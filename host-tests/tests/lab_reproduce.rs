@@ -16,7 +16,16 @@ fn every_law_holds_and_every_control_is_rejected() {
         assert!(row.pass, "{} ({}): z = {:.2}", row.name, row.law, row.z);
     }
     let laws: std::collections::BTreeSet<&str> = r.rows.iter().map(|x| x.law).collect();
-    for law in ["eq2", "eq23", "eq27", "euler", "eq32", "ar1_euler"] {
+    for law in [
+        "eq2",
+        "eq23",
+        "eq27",
+        "euler",
+        "trapezoid",
+        "eq32",
+        "ar1_euler",
+        "trapezoid_bias",
+    ] {
         assert!(laws.contains(law), "no row for {law}");
     }
     assert!(r.rows.iter().filter(|x| x.control).count() >= 5);
@@ -43,6 +52,7 @@ fn json_rows_have_the_documented_keys() {
             "ci_high_m",
             "ci_low_m",
             "control",
+            "detectable_pct",
             "law",
             "measured_m",
             "name",

@@ -2,8 +2,10 @@
 //! of the default path (the QEMU run itself is in .ci/run: `cargo lab speed`).
 
 use host_tests::commands::speed::{
-    errors_at, host_checksums, parse_target, sensor_noise_m, Variant,
+    checksums_of, errors_at, host_checksums, parse_target, sensor_noise_m, trace, Variant, BLOCK,
 };
+use imu_core::bench::testsignal::Checksum;
+use imu_core::{AdcCode, Axis, Config};
 
 const GOOD: &str = "calib 344 172204\nkernel baseline 3072 12 2698151 7b6448aed996ce09 0\n";
 
@@ -29,12 +31,55 @@ fn parser_rejects_malformed_output() {
 }
 
 #[test]
-fn host_checksums_are_deterministic_and_distinct() {
+fn host_checksums_are_distinct_and_see_one_changed_code() {
+    // CI compares these with the target's: the comparison is worth something only if each
+    // kernel has its own checksum and a single differing output changes it.
     let a = host_checksums();
-    assert_eq!(a, host_checksums());
     for (i, x) in a.iter().enumerate() {
         assert!(a[i + 1..].iter().all(|y| y.1 != x.1), "{} collides", x.0);
     }
+    let mut codes = trace(BLOCK * 4);
+    let base = checksums_of(&codes);
+    // +64 codes: the tracker kernel scales its input down 32x, so a smaller step could vanish
+    // in its integer division before any arithmetic saw it.
+    codes[BLOCK * 3 + 100] += 64;
+    for ((name, was), (_, now)) in base.iter().zip(checksums_of(&codes)) {
+        assert_ne!(
+            *was, now,
+            "{name}: one changed code left the checksum as it was"
+        );
+    }
+}
+
+#[test]
+fn the_pipeline_kernel_checksums_the_real_axis() {
+    // What target and host agree on must be the device's pipeline, not a stand-in: the same
+    // block through `imu_core::Axis` directly (50 Hz low-pass, Euler, counts drained every
+    // third sample, the velocity folded after the block) gives the kernel's checksum.
+    let codes = trace(BLOCK);
+    let settings = Config {
+        lowpass_fc_hz: Some(50.0),
+        drift: None,
+        ..Config::default()
+    }
+    .validate()
+    .expect("valid");
+    let mut axis = Axis::new(2048 << 16);
+    let mut acc = 0u64;
+    for (i, &c) in codes.iter().enumerate() {
+        axis.update(&settings, AdcCode(c));
+        if i % 3 == 2 {
+            acc = acc.wrapping_add(axis.take_counts(&settings) as u64);
+        }
+    }
+    let mut want = Checksum::default();
+    want.add(acc);
+    want.add(axis.integrator().velocity() as u64);
+    let got = checksums_of(&codes)
+        .into_iter()
+        .find(|(n, _)| *n == "pipeline_axis")
+        .expect("kernel");
+    assert_eq!(got.1, want.0);
 }
 
 #[test]

@@ -302,10 +302,14 @@ fn core_lowpass_makes_ar1_noise_with_its_realised_pole() {
     // changes the error most: ignoring it is off by a factor of 4 in variance. (At
     // N alpha >> 1 filtered noise integrates like white noise of the same DC density,
     // REFERENCE (b) caveat 4, and no control could tell them apart.)
-    let s = settings(1000, Some(0.8), Scheme::Euler);
+    // The pole from fc and fs alone (REFERENCE (b)), not from the core's coefficient, so a
+    // wrong fc -> k mapping in the core fails here. The core's k is this k rounded to Q0.32:
+    // 2^-33 relative at most, far below what 4000 trials resolve.
+    let (fc, fs) = (0.8, 1000.0);
+    let s = settings(fs as u32, Some(fc), Scheme::Euler);
     let lsb = s.m_s2_per_lsb();
-    let k = f64::from(s.lowpass_k_q32()) / 4_294_967_296.0;
-    let alpha = -(-k).ln_1p();
+    let alpha = 2.0 * std::f64::consts::PI * fc / fs;
+    let k = -(-alpha).exp_m1();
     let n = 200u64;
     let (pos, _) = run(4000, 9, |rng| {
         trial(&s, BIAS, 4000, n as usize, || {
@@ -325,7 +329,8 @@ fn core_lowpass_makes_ar1_noise_with_its_realised_pole() {
 #[test]
 fn sub_lsb_noise_is_white_with_the_lattice_variance_not_sheppards() {
     // sigma = 0.3 LSB centred on a code: the quantised noise is still independent from
-    // sample to sample, but its variance is the exact lattice sum (0.0018 LSB^2 here), not
+    // sample to sample, but its variance is the exact lattice sum, 0.0956 LSB^2 here (about
+    // 2 P(Z > 0.5 / 0.3): the chance of landing on a neighbouring code), not Sheppard's
     // sigma^2 + 1/12 = 0.173. The core integrates the codes exactly either way.
     let s = settings(100, None, Scheme::Euler);
     let lsb = s.m_s2_per_lsb();

@@ -97,6 +97,7 @@ fn json_has_exactly_the_documented_keys() {
             "euler_m",
             "n",
             "t_s",
+            "trapezoid_bias_m",
             "trapezoid_m"
         ]
     );
@@ -148,4 +149,37 @@ fn bad_inputs_are_named() {
     assert!(predict(&neg).is_err_and(|e| e.to_string().starts_with("--sigma-d -1")));
     // A product with float error still counts as whole: 0.1 * 3000 = 300.00000000000006.
     assert_eq!(predict(&white(3000.0, &[0.1])).map(|r| r[0].n), Ok(300));
+}
+
+#[test]
+fn bias_and_noise_together_need_both_and_add_in_mean_square() {
+    // 0.01 m/s^2 of bias for 1 s: eq 2 gives 5 mm; 0.05 m/s^2 white at 100 Hz through the
+    // trapezoid: REFERENCE (c)(ii). Together: the root of the sum of squares, which is
+    // larger than either alone and smaller than their sum.
+    let both = predict(&Inputs {
+        sigma_d: Some(0.05),
+        bias: Some(0.01),
+        ..inputs(100.0, &[1.0])
+    })
+    .expect("valid");
+    let r = &both[0];
+    let (b, w) = (r.eq2_m.expect("bias"), r.trapezoid_m.expect("white"));
+    assert!((b - 0.005).abs() < 1e-15);
+    let total = r.trapezoid_bias_m.expect("both given");
+    assert!((total * total - (b * b + w * w)).abs() < 1e-15 * total * total);
+    assert!(total > b.max(w) && total < b + w);
+    for alone in [
+        Inputs {
+            sigma_d: Some(0.05),
+            ..inputs(100.0, &[1.0])
+        },
+        Inputs {
+            bias: Some(0.01),
+            ..inputs(100.0, &[1.0])
+        },
+    ] {
+        assert!(predict(&alone).expect("valid")[0]
+            .trapezoid_bias_m
+            .is_none());
+    }
 }

@@ -101,7 +101,8 @@ impl Params {
 pub struct Row {
     /// What was measured.
     pub name: String,
-    /// The law: eq2, eq23, eq27, euler, trapezoid, eq32 or ar1_euler.
+    /// The law, as the predictor's key without `_m`: eq2, eq23, eq27, euler, trapezoid,
+    /// eq32, ar1_euler or trapezoid_bias.
     pub law: &'static str,
     /// The predictor's inputs.
     pub params: Params,
@@ -115,6 +116,10 @@ pub struct Row {
     pub ci_high_m: f64,
     /// z-score of the prediction.
     pub z: f64,
+    /// The row's power: the smallest error of a predicted RMS it rejects, in % of the
+    /// measured RMS, `z_crit se / (2 mean)` to first order (an error this size is rejected
+    /// half the time, one 1.5 times as large nearly always).
+    pub detectable_pct: f64,
     /// Whether the row applies a deliberately wrong law.
     pub control: bool,
     /// Whether the row met its expectation: held (ordinary) or was rejected (control).
@@ -261,6 +266,7 @@ fn predicted(law: &str, p: &Params) -> f64 {
         "trapezoid" => r.trapezoid_m,
         "eq32" => r.eq32_m,
         "ar1_euler" => r.ar1_euler_m,
+        "trapezoid_bias" => r.trapezoid_bias_m,
         _ => None,
     }
     .expect("the law applies to these inputs")
@@ -295,6 +301,7 @@ fn row(name: String, check: Check, m: &Measured) -> Row {
         ci_low_m: lo,
         ci_high_m: hi,
         z: ms.z(p),
+        detectable_pct: 100.0 * ms.se_ln_rms(), // times z_crit once it is known
         control: check.control,
         pass: false, // decided once z_crit is known
     }
@@ -742,18 +749,30 @@ fn filtered_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
     }
 }
 
+/// A bias drawn per trial (rms 0.3 LSB) under white noise of 4 LSB, through the trapezoid:
+/// the noise's T^1.5 dominates below N = 240 samples, the bias's T^2 above. Every row tests
+/// the sum of the two in mean square at a different mix (4 % bias at N = 10, 97 % at
+/// N = 10 000); each law alone is rejected where the other dominates. (A bias alone is no
+/// test: with the trapezoid its position is exactly A T^2 / 2, so every N would measure
+/// only the spread of the drawn biases.)
 fn bias_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
     let fs = 100u32;
     let ns = [10u64, 100, 1000, 10_000];
-    // Per trial a whole number of codes, A = round(3 Z): no quantisation error at all, and
-    // E[A^2] is the exact lattice variance.
-    let scene = |rng: &mut SimRng| Scene {
+    let (bias_lsb, noise_lsb) = (0.3, 4.0);
+    // The noise dithers the ADC (4 LSB >> 1): the codes' mean is the bias exactly and their
+    // variance sigma^2 + 1/12 (Sheppard), so the bias may take any value.
+    let scene = move |rng: &mut SimRng| Scene {
         name: "bias",
-        about: "a constant bias per trial",
+        about: "a bias per trial under white noise",
         fs: 100.0,
-        sources: vec![Source::Bias {
-            value: (3.0 * noise::normal(rng)).round() * ADXL335_LSB,
-        }],
+        sources: vec![
+            Source::Bias {
+                value: bias_lsb * noise::normal(rng) * ADXL335_LSB,
+            },
+            Source::White {
+                sigma_d: noise_lsb * ADXL335_LSB,
+            },
+        ],
         adc: ADC,
     };
     let m = simulate(
@@ -768,57 +787,70 @@ fn bias_vs_t(seed: u64, trials: usize, bar: &ProgressBar) -> SweepOut {
         &scene,
         bar,
     );
-    let bias = noise::quantised_variance(0.0, 3.0).sqrt() * ADXL335_LSB;
-    let p = |t: f64| Params::bias(100.0, t, bias);
+    let bias = bias_lsb * ADXL335_LSB;
+    let sd = white_eff(noise_lsb);
+    let both = |t: f64| Params {
+        bias: Some(bias),
+        ..Params::white(100.0, t, sd)
+    };
     let mut rows = vec![];
     for (i, &n) in ns.iter().enumerate() {
         let t = n as f64 / 100.0;
-        let name = format!(
-            "bias, rms {:.3} LSB, trapezoid, N = {n}",
-            bias / ADXL335_LSB
-        );
-        rows.push(row(
-            name.clone(),
-            Check {
+        let name = format!("bias rms {bias_lsb} LSB + white {noise_lsb} LSB, trapezoid, N = {n}");
+        let mut checks = vec![Check {
+            law: "trapezoid_bias",
+            estimate: Estimate::Position,
+            params: both(t),
+            control: false,
+            note: "",
+        }];
+        if n == 10 {
+            checks.push(Check {
                 law: "eq2",
                 estimate: Estimate::Position,
-                params: p(t),
-                control: false,
-                note: "",
-            },
-            &m[i],
-        ));
-        if n == 1000 {
-            let wrong = Params::white(100.0, t, bias);
-            rows.push(row(
-                name,
-                Check {
-                    law: "eq27",
-                    estimate: Estimate::Position,
-                    params: wrong,
-                    control: true,
-                    note: "the bias treated as white noise (T^1.5)",
-                },
-                &m[i],
-            ));
+                params: Params::bias(100.0, t, bias),
+                control: true,
+                note: "the bias alone (eq 2), where the noise dominates",
+            });
         }
+        if n == 10_000 {
+            checks.push(Check {
+                law: "trapezoid",
+                estimate: Estimate::Position,
+                params: Params::white(100.0, t, sd),
+                control: true,
+                note: "the noise alone (T^1.5), where the bias dominates",
+            });
+        }
+        rows.extend(checks.into_iter().map(|c| row(name.clone(), c, &m[i])));
     }
     let ts: Vec<f64> = ns.iter().map(|&n| n as f64 / 100.0).collect();
     let fine = logspace(0.1, 100.0, 40, 100.0);
     let plot = Plot {
-        title: "DC bias: RMS position error vs T (eq 2, T^2)".into(),
+        title: "A bias under white noise: T^1.5 turns into T^2 (eq 2 + exact trapezoid)".into(),
         x_label: "T [s]".into(),
         y_label: "RMS position error [m]".into(),
         lines: vec![
-            curve("eq 2: |A| T^2 / 2", "#9467bd", false, &fine, |t| {
-                on_curve("eq2", p(t))
-            }),
             curve(
-                "the bias as white noise (wrong)",
+                "bias and noise in mean square",
+                "#9467bd",
+                false,
+                &fine,
+                |t| on_curve("trapezoid_bias", both(t)),
+            ),
+            curve(
+                "eq 2: the bias alone, rms(A) T^2 / 2",
+                "#555555",
+                true,
+                &fine,
+                |t| on_curve("eq2", Params::bias(100.0, t, bias)),
+            ),
+            curve(
+                "the noise alone, exact trapezoid",
                 "#999999",
                 true,
                 &fine,
-                |t| on_curve("eq27", Params::white(100.0, t, bias)),
+                |t| on_curve("trapezoid", Params::white(100.0, t, sd)),
             ),
         ],
         points: vec![mc_points(
@@ -880,6 +912,7 @@ pub fn reproduce(
     let zc = z_crit(k);
     for r in &mut rows {
         r.pass = (r.z.abs() < zc) != r.control;
+        r.detectable_pct *= zc;
     }
     let mut plots = vec![];
     if let Some(dir) = out_dir {
@@ -899,8 +932,8 @@ pub fn reproduce(
 /// The report as a readable table.
 pub fn table(r: &Report) -> String {
     let mut out = format!(
-        "{:<78} {:<9} {:>11} {:>11} {:>7}  {}\n",
-        "case", "law", "predicted", "measured", "z", "result"
+        "{:<78} {:<14} {:>11} {:>11} {:>7} {:>8}  {}\n",
+        "case", "law", "predicted", "measured", "z", "detects", "result"
     );
     for row in &r.rows {
         let result = match (row.control, row.pass) {
@@ -910,8 +943,8 @@ pub fn table(r: &Report) -> String {
             (true, false) => "CONTROL NOT REJECTED",
         };
         out += &format!(
-            "{:<78} {:<9} {:>11.4e} {:>11.4e} {:>+7.2}  {}\n",
-            row.name, row.law, row.predicted_m, row.measured_m, row.z, result
+            "{:<78} {:<14} {:>11.4e} {:>11.4e} {:>+7.2} {:>7.1}%  {}\n",
+            row.name, row.law, row.predicted_m, row.measured_m, row.z, row.detectable_pct, result
         );
     }
     let bad = r.rows.iter().filter(|x| !x.pass).count();
@@ -926,6 +959,13 @@ pub fn table(r: &Report) -> String {
         } else {
             format!("{bad} rows NOT as expected")
         }
+    );
+    let laws = r.rows.iter().filter(|x| !x.control);
+    let (best, worst) = laws.fold((f64::INFINITY, 0.0f64), |(lo, hi), x| {
+        (lo.min(x.detectable_pct), hi.max(x.detectable_pct))
+    });
+    out += &format!(
+        "detects: the smallest error of a predicted RMS each row rejects ({best:.1} % to {worst:.1} % over the law rows)\n"
     );
     for p in &r.plots {
         out += &format!("plot: {p}\n");

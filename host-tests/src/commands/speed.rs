@@ -36,7 +36,8 @@ use crate::world::scene;
 
 /// The harness's trace seed, block and length (must match `firmware/src/bin/speed.rs`).
 pub const SEED: u64 = 0x1A2B_3C4D;
-const BLOCK: usize = 256;
+/// Samples per timed block of the harness.
+pub const BLOCK: usize = 256;
 const BLOCKS: usize = 12;
 
 /// idsp's first-order low-pass at 50 Hz / 3 kHz (as in the harness).
@@ -109,7 +110,12 @@ pub fn trace(n: usize) -> Vec<u16> {
 
 /// The host's checksum of each kernel over the harness's trace, in the harness's blocks.
 pub fn host_checksums() -> Vec<(&'static str, u64)> {
-    let codes = trace(BLOCK * BLOCKS);
+    checksums_of(&trace(BLOCK * BLOCKS))
+}
+
+/// The checksum of each kernel over `codes`, in blocks of [`BLOCK`] samples (or the kernel's
+/// own smaller block), as the harness folds them.
+pub fn checksums_of(codes: &[u16]) -> Vec<(&'static str, u64)> {
     kernels()
         .into_iter()
         .map(|(name, mut k)| {
@@ -345,6 +351,15 @@ impl Variant {
         Self::F64,
     ];
 
+    /// The variants whose error is measured: all but the f64 twin, which is the reference.
+    pub const MEASURED: [Variant; 5] = [
+        Self::Default,
+        Self::NoFilter,
+        Self::Trapezoid,
+        Self::Narrow,
+        Self::F32,
+    ];
+
     /// Name in the table and JSON.
     pub fn name(self) -> &'static str {
         match self {
@@ -353,7 +368,7 @@ impl Variant {
             Self::Trapezoid => "default with trapezoid",
             Self::Narrow => "narrow (Q8, i32/i64, no filter)",
             Self::F32 => "f32 (low-pass, Euler)",
-            Self::F64 => "f64 twin",
+            Self::F64 => "f64 twin (the reference)",
         }
     }
 
@@ -374,7 +389,8 @@ impl Variant {
 pub const ERROR_TIMES_S: [f64; 3] = [1.0, 60.0, 3600.0];
 
 /// RMS position error of each variant against the f64 ground truth at [`ERROR_TIMES_S`]
-/// up to `max_t_s` (the others are `None`) [m].
+/// up to `max_t_s` (the others are `None`) [m]. The f64 twin is that ground truth: its errors
+/// are not measured, and are `None` at every time.
 pub fn errors(trials: u64, max_t_s: f64) -> Vec<(Variant, Vec<Option<f64>>)> {
     let times: Vec<f64> = ERROR_TIMES_S
         .iter()
@@ -388,11 +404,12 @@ pub fn errors(trials: u64, max_t_s: f64) -> Vec<(Variant, Vec<Option<f64>>)> {
             e.resize(ERROR_TIMES_S.len(), None);
             (v, e)
         })
+        .chain([(Variant::F64, vec![None; ERROR_TIMES_S.len()])])
         .collect()
 }
 
-/// RMS position error of each variant against the f64 ground truth at each of `times`
-/// (ascending, whole samples at 3 kHz) [m].
+/// RMS position error of each measured variant ([`Variant::MEASURED`]) against the f64 ground
+/// truth at each of `times` (ascending, whole samples at 3 kHz) [m].
 pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
     let sc = scene::catalogue()
         .into_iter()
@@ -401,7 +418,7 @@ pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
     let fs = 3000.0;
     let lsb = scene::ADXL335_LSB;
     let n_max = (times.last().copied().unwrap_or(0.0) * fs).round() as usize;
-    let mut sq = vec![vec![0.0; times.len()]; Variant::ALL.len()];
+    let mut sq = vec![vec![0.0; times.len()]; Variant::MEASURED.len()];
     for trial in 0..trials {
         let mut rng = noise::rng(0x5EED ^ trial);
         let mut run = sc.start(&mut rng);
@@ -450,7 +467,6 @@ pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
                     axes[2].integrator().position() as f64 * unit - t_trap,
                     narrow.s as f64 / 256.0 * to_m - t_off,
                     f64::from(f32p.s) * to_m - t_on,
-                    0.0,
                 ];
                 for (v, e) in got.iter().enumerate() {
                     sq[v][next_t] += e * e;
@@ -459,7 +475,7 @@ pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
             }
         }
     }
-    Variant::ALL
+    Variant::MEASURED
         .iter()
         .zip(sq)
         .map(|(&v, s)| (v, s.iter().map(|x| (x / trials as f64).sqrt()).collect()))

@@ -112,6 +112,12 @@ pub struct Row {
     /// REFERENCE (c)(iii), filtered (AR(1)) noise, exact Euler, `r0` from eq (31).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ar1_euler_m: Option<f64>,
+    /// Bias and white noise together through the exact trapezoid: `sqrt(eq2^2 +
+    /// trapezoid^2)`. The trapezoid integrates a constant exactly (eq 2) and the noise's
+    /// error has zero mean, so the two add in mean square, whether the bias is fixed or drawn
+    /// with that rms. Needs `bias` and `sigma_d`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trapezoid_bias_m: Option<f64>,
 }
 
 /// Validates `inputs` and evaluates every applicable law at each duration.
@@ -154,19 +160,22 @@ pub fn predict(inputs: &Inputs) -> Result<Vec<Row>, PredictError> {
             let n = whole_samples(t, fs)?;
             let nf = n as f64;
             let white = inputs.sigma_d;
+            let eq2 = inputs.bias.map(|b| r::eq2_bias(b, t));
+            let trapezoid = white.map(|s| r::trapezoid_white(s, fs, n));
             Ok(Row {
                 t_s: t,
                 n,
-                eq2_m: inputs.bias.map(|b| r::eq2_bias(b, t)),
+                eq2_m: eq2,
                 eq23_m: white.map(|s| r::eq23_retrospective(s, fs, nf / fs)),
                 eq27_m: white.map(|s| r::eq27_continuous(s, fs, nf / fs)),
                 euler_m: white.map(|s| r::euler_white(s, fs, n)),
-                trapezoid_m: white.map(|s| r::trapezoid_white(s, fs, n)),
+                trapezoid_m: trapezoid,
                 eq32_m: filtered.map(|(sc, fc)| r::eq32_filtered_retrospective(sc, fc, fs, nf)),
                 ar1_euler_m: filtered.map(|(sc, fc)| {
                     let a = r::alpha(fc, fs);
                     r::ar1_euler(r::eq31_sigma_f2(sc, a, fs), a, fs, nf)
                 }),
+                trapezoid_bias_m: eq2.zip(trapezoid).map(|(b, w)| b.hypot(w)),
             })
         })
         .collect()
@@ -192,7 +201,7 @@ fn whole_samples(t: f64, fs: f64) -> Result<u64, PredictError> {
 /// The rows as a fixed-width text table, one column per law present.
 pub fn table(rows: &[Row]) -> String {
     type Col = (&'static str, fn(&Row) -> Option<f64>);
-    let cols: [Col; 7] = [
+    let cols: [Col; 8] = [
         ("eq2 bias", |r| r.eq2_m),
         ("eq23 retro", |r| r.eq23_m),
         ("eq27 cont", |r| r.eq27_m),
@@ -200,6 +209,7 @@ pub fn table(rows: &[Row]) -> String {
         ("trapezoid", |r| r.trapezoid_m),
         ("eq32 filt", |r| r.eq32_m),
         ("ar1 euler", |r| r.ar1_euler_m),
+        ("trap + bias", |r| r.trapezoid_bias_m),
     ];
     let present: Vec<&Col> = cols
         .iter()
