@@ -53,12 +53,9 @@ pub const TIMING: Timing = Timing {
 };
 
 /// The suspend probe's motion threshold in ADC codes for [`crate::identity::WAKE_MOTION_M_S2`]
-/// at `m_s2_per_lsb` [m/s^2 per code], at least 4 codes.
+/// at `m_s2_per_lsb` [m/s^2 per code] (finite and > 0, as a validated `Config` has it): at
+/// least 4 codes, at most `u16::MAX` (the float-to-integer cast saturates; a scale of 0 gives
+/// the maximum, never a wake-up on noise).
 pub fn wake_motion_lsb(m_s2_per_lsb: f64) -> u16 {
-    let codes = crate::identity::WAKE_MOTION_M_S2 / m_s2_per_lsb;
-    if codes.is_finite() && codes < f64::from(u16::MAX) {
-        (codes as u16).max(4)
-    } else {
-        u16::MAX
-    }
+    ((crate::identity::WAKE_MOTION_M_S2 / m_s2_per_lsb) as u16).max(4)
 }

@@ -92,7 +92,7 @@ impl<K: InputPin, L: OutputPin> Housekeeping<K, L> {
             Some(ButtonEvent::LongPress) => tracker.lock(Tracker::recalibrate),
             None => {}
         }
-        let (link, wake_ok) = mouse.lock(|m| (m.link(), m.remote_wakeup_enabled()));
+        let (link, wake_ok) = mouse.lock(|m| (m.reports().link(), m.remote_wakeup_enabled()));
         let pressed = self.debouncer.is_pressed();
         let power = status.lock(|s| s.power(now_ms, link, wake_ok, pressed));
         if power == PowerAction::Resume {
@@ -103,7 +103,9 @@ impl<K: InputPin, L: OutputPin> Housekeeping<K, L> {
         let lit = shown.lit(now_ms) != self.led_active_low;
         // An LED that cannot be driven changes nothing the device does.
         let _ = self.led.set_state(PinState::from(lit));
-        let log = now_ms.wrapping_sub(self.next_log_ms) < u32::MAX / 2;
+        // Due once now is at or past the deadline, on a clock that wraps every 49.7 days:
+        // the signed distance decides, as long as ticks are less than 24.8 days apart.
+        let log = now_ms.wrapping_sub(self.next_log_ms) as i32 >= 0;
         if log {
             self.next_log_ms = self.next_log_ms.wrapping_add(self.log_interval_ms);
         }

@@ -56,13 +56,87 @@ pub fn usb_device<B: UsbBus>(bus: &UsbBusAllocator<B>) -> Result<UsbDevice<'_, B
         .build())
 }
 
-/// The mouse: USB device, HID class, and the report scheduler.
-pub struct Mouse<'a, B: UsbBus> {
-    dev: UsbDevice<'a, B>,
-    hid: HIDClass<'a, B>,
+/// What the mouse owes the host and how it stands with it: the core's report scheduler, the
+/// link as last seen, and the pushes the USB stack refused for a reason other than a busy
+/// endpoint. Free of the bus, so its rules are tested without one.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Reports {
     reporter: Reporter,
     link: Link,
     drops: u32,
+}
+
+impl Reports {
+    /// One service after the USB stack's poll: the device's `state` now, the tracker's fresh
+    /// `counts` `[x, y, z]`, and `push`, which hands one report's bytes to the stack.
+    ///
+    /// A change of the link (enumerated, reset, suspended, resumed) starts what the host
+    /// knows afresh; while not configured, motion is discarded rather than delivered late as
+    /// a jump. A push refused with `WouldBlock` loses nothing (the motion stays owed); any
+    /// other refusal is counted in [`Self::drops`].
+    pub fn update(
+        &mut self,
+        state: UsbDeviceState,
+        counts: [i32; 3],
+        push: impl FnOnce(&[u8]) -> Result<usize, UsbError>,
+    ) {
+        let link = match state {
+            UsbDeviceState::Configured => Link::Configured,
+            UsbDeviceState::Suspend => Link::Suspended,
+            UsbDeviceState::Default | UsbDeviceState::Addressed => Link::NotConfigured,
+        };
+        if link != self.link {
+            self.reporter.host_reset();
+            self.link = link;
+        }
+        // Counted first, then discarded if the host is not listening: every count the tracker
+        // hands over is sent, discarded or owed, never lost from the accounts.
+        let (dx, dy) = imu_core::hid::screen_motion(counts);
+        self.reporter.add_motion(dx, dy);
+        if link != Link::Configured {
+            self.reporter.discard_motion();
+            return;
+        }
+        if let Some(report) = self.reporter.pending() {
+            match push(&report.to_bytes()) {
+                Ok(_) => self.reporter.sent(&report),
+                Err(UsbError::WouldBlock) => {}
+                Err(_) => self.drops = self.drops.wrapping_add(1),
+            }
+        }
+    }
+
+    /// Sets the held buttons (`imu_core::hid::buttons` bits); sent with the next report.
+    pub fn set_buttons(&mut self, held: u8) {
+        self.reporter.set_buttons(held);
+    }
+
+    /// The link as of the last [`Self::update`].
+    pub fn link(&self) -> Link {
+        self.link
+    }
+
+    /// Whether a report is waiting to be pushed (motion or a button change).
+    pub fn pending(&self) -> bool {
+        self.reporter.pending().is_some()
+    }
+
+    /// The report scheduler: reports accepted, motion sent, discarded and owed [counts].
+    pub fn reporter(&self) -> &Reporter {
+        &self.reporter
+    }
+
+    /// Reports refused by the USB stack for a reason other than "busy".
+    pub fn drops(&self) -> u32 {
+        self.drops
+    }
+}
+
+/// The mouse: USB device, HID class, and what it owes the host ([`Reports`]).
+pub struct Mouse<'a, B: UsbBus> {
+    dev: UsbDevice<'a, B>,
+    hid: HIDClass<'a, B>,
+    reports: Reports,
 }
 
 impl<'a, B: UsbBus> Mouse<'a, B> {
@@ -76,49 +150,22 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
         Ok(Self {
             dev,
             hid,
-            reporter: Reporter::default(),
-            link: Link::NotConfigured,
-            drops: 0,
+            reports: Reports::default(),
         })
     }
 
     /// Polls the USB stack, adds the tracker's fresh `counts` `[x, y, z]` and pushes the next
-    /// pending report, if any.
+    /// pending report, if any ([`Reports::update`]).
     pub fn service(&mut self, counts: [i32; 3]) {
         self.dev.poll(&mut [&mut self.hid]);
-        let link = match self.dev.state() {
-            UsbDeviceState::Configured => Link::Configured,
-            UsbDeviceState::Suspend => Link::Suspended,
-            UsbDeviceState::Default | UsbDeviceState::Addressed => Link::NotConfigured,
-        };
-        if link != self.link {
-            // Enumerated, reset, suspended or resumed: what the host knows starts afresh.
-            self.reporter.host_reset();
-            self.link = link;
-        }
-        if link != Link::Configured {
-            self.reporter.discard_motion();
-            return;
-        }
-        let (dx, dy) = imu_core::hid::screen_motion(counts);
-        self.reporter.add_motion(dx, dy);
-        if let Some(report) = self.reporter.pending() {
-            match self.hid.push_raw_input(&report.to_bytes()) {
-                Ok(_) => self.reporter.sent(&report),
-                Err(UsbError::WouldBlock) => {}
-                Err(_) => self.drops = self.drops.wrapping_add(1),
-            }
-        }
+        let hid = &mut self.hid;
+        self.reports
+            .update(self.dev.state(), counts, |bytes| hid.push_raw_input(bytes));
     }
 
     /// Sets the held buttons (`imu_core::hid::buttons` bits); sent with the next report.
     pub fn set_buttons(&mut self, held: u8) {
-        self.reporter.set_buttons(held);
-    }
-
-    /// The link as of the last [`Self::service`].
-    pub fn link(&self) -> Link {
-        self.link
+        self.reports.set_buttons(held);
     }
 
     /// Whether the host has allowed remote wake-up (SET_FEATURE DEVICE_REMOTE_WAKEUP).
@@ -126,33 +173,8 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
         self.dev.remote_wakeup_enabled()
     }
 
-    /// Whether a report is waiting to be pushed (motion or a button change).
-    pub fn pending(&self) -> bool {
-        self.reporter.pending().is_some()
-    }
-
-    /// Reports accepted by the USB stack.
-    pub fn reports(&self) -> u32 {
-        self.reporter.reports()
-    }
-
-    /// The motion accepted by the USB stack so far, `(x, y)` [counts], wrapping.
-    pub fn sent_total(&self) -> (i64, i64) {
-        self.reporter.sent_total()
-    }
-
-    /// The motion dropped while the host was not listening, `(x, y)` [counts], wrapping.
-    pub fn discarded(&self) -> (i64, i64) {
-        self.reporter.discarded()
-    }
-
-    /// The motion owed to the host now, `(x, y)` [counts].
-    pub fn undelivered(&self) -> (i64, i64) {
-        self.reporter.undelivered()
-    }
-
-    /// Reports refused by the USB stack for a reason other than "busy".
-    pub fn drops(&self) -> u32 {
-        self.drops
+    /// What the mouse owes the host, and the link as of the last [`Self::service`].
+    pub fn reports(&self) -> &Reports {
+        &self.reports
     }
 }

@@ -37,4 +37,32 @@ fn wake_threshold_is_far_above_the_noise_of_one_sample() {
     assert_eq!(codes, 20);
     assert_eq!(device::wake_motion_lsb(1.0), 4);
     assert_eq!(device::wake_motion_lsb(0.0), u16::MAX);
+    assert_eq!(device::wake_motion_lsb(1e-9), u16::MAX);
+}
+
+#[test]
+fn a_block_is_one_millisecond_of_samples_at_least_one() {
+    for (fs, block) in [
+        (100, 1),
+        (999, 1),
+        (1000, 1),
+        (1500, 1),
+        (3000, 3),
+        (20_000, 20),
+    ] {
+        assert_eq!(block_len(fs), block, "{fs} Hz");
+    }
+}
+
+#[test]
+fn the_tracker_runs_at_the_device_rate_with_the_core_defaults() {
+    let config = tracker_config(6000);
+    assert_eq!(config.fs_hz, 6000);
+    assert_eq!(
+        config,
+        imu_core::Config {
+            fs_hz: 6000,
+            ..imu_core::Config::default()
+        }
+    );
 }

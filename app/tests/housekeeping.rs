@@ -78,6 +78,24 @@ impl OutputPin for Led {
     }
 }
 
+/// One housekeeping tick over exclusively held resources, as the twin runs it.
+fn tick(
+    hk: &mut Housekeeping<Key, Led>,
+    now_ms: u32,
+    arrives: bool,
+    tracker: &mut Tracker,
+    status: &mut Status,
+    mouse: &mut Mouse<'_, NoHost>,
+) -> imu_app::housekeeping::Tick {
+    hk.tick(
+        now_ms,
+        arrives,
+        &mut Exclusive(tracker),
+        &mut Exclusive(status),
+        &mut Exclusive(mouse),
+    )
+}
+
 #[test]
 fn logs_every_interval_key_debounced_and_led_shows_not_configured() {
     let alloc = UsbBusAllocator::new(NoHost);
@@ -99,13 +117,7 @@ fn logs_every_interval_key_debounced_and_led_shows_not_configured() {
     for ms in start + 1..=start + 12_000 {
         pressed.set((start + 100..start + 110).contains(&ms) || ms == start + 200);
         mouse.service([0; 3]);
-        let tick = hk.tick(
-            ms,
-            true,
-            &mut Exclusive(&mut tracker),
-            &mut Exclusive(&mut status),
-            &mut Exclusive(&mut mouse),
-        );
+        let tick = tick(&mut hk, ms, true, &mut tracker, &mut status, &mut mouse);
         if tick.log {
             logs.push(ms - start);
         }
@@ -127,7 +139,7 @@ fn logs_every_interval_key_debounced_and_led_shows_not_configured() {
         events,
         [(104, ButtonEvent::Pressed), (114, ButtonEvent::Released)]
     );
-    assert_eq!(mouse.link(), Link::NotConfigured);
+    assert_eq!(mouse.reports().link(), Link::NotConfigured);
     assert_eq!(lit_ms, 100, "not configured: one 100 ms flash a second");
 }
 
@@ -142,14 +154,93 @@ fn no_adc_data_outranks_usb_on_the_led() {
     let mut hk = Housekeeping::new(key, true, Led(lit_low.clone()), true, device::TIMING, 0);
     let mut lit_ms = 0;
     for ms in 1..=2000u32 {
-        hk.tick(
-            ms,
-            false,
-            &mut Exclusive(&mut tracker),
-            &mut Exclusive(&mut status),
-            &mut Exclusive(&mut mouse),
-        );
+        tick(&mut hk, ms, false, &mut tracker, &mut status, &mut mouse);
         lit_ms += u32::from(!lit_low.get());
     }
     assert_eq!(lit_ms, 1000, "no data: on 1 s, off 1 s");
+}
+
+#[test]
+fn a_press_reaches_the_report_and_the_tracker_keeps_tracking() {
+    // A tracking device: housekeeping must not recalibrate it on ordinary ticks (only on a
+    // resume from suspend), and a debounced press must reach the mouse's next report and
+    // drift control (a click edge freezes integration for its click-freeze time).
+    let alloc = UsbBusAllocator::new(NoHost);
+    let mut mouse = Mouse::new(&alloc).expect("identity fits");
+    let mut tracker = Tracker::new(&device::tracker_config(3000)).expect("valid");
+    tracker.feed(&[[2048, 2048, 2457]; 3000]);
+    assert_eq!(tracker.phase(), imu_core::Phase::Tracking);
+    let mut status = Status::new(20);
+    let pressed = Rc::new(Cell::new(true));
+    let mut hk = Housekeeping::new(
+        Key(pressed),
+        true,
+        Led(Rc::new(Cell::new(true))),
+        true,
+        device::TIMING,
+        0,
+    );
+    for ms in 1..=20u32 {
+        tick(&mut hk, ms, true, &mut tracker, &mut status, &mut mouse);
+    }
+    assert_eq!(
+        tracker.phase(),
+        imu_core::Phase::Tracking,
+        "no recalibration"
+    );
+    assert!(
+        mouse.reports().pending(),
+        "the press waits in the next report"
+    );
+    tracker.feed(&[[2048, 2048, 2457]; 30]);
+    assert_eq!(
+        tracker.counters().frozen_samples,
+        30,
+        "the click edge froze integration"
+    );
+}
+
+#[test]
+fn a_late_tick_still_logs_once() {
+    // Ticks may come late (a busy executor): a tick past the deadline logs, and the next
+    // deadline stays on the 5000 ms grid.
+    let alloc = UsbBusAllocator::new(NoHost);
+    let mut mouse = Mouse::new(&alloc).expect("identity fits");
+    let mut tracker = Tracker::new(&device::tracker_config(3000)).expect("valid");
+    let mut status = Status::new(20);
+    let mut hk = Housekeeping::new(
+        Key(Rc::new(Cell::new(false))),
+        true,
+        Led(Rc::new(Cell::new(true))),
+        true,
+        device::TIMING,
+        u32::MAX - 1000, // the millisecond clock wraps during the run
+    );
+    let mut logged = vec![];
+    for ms in [4000u32, 4003, 4004, 9003, 9004] {
+        let now = (u32::MAX - 1000).wrapping_add(ms);
+        let tick = tick(&mut hk, now, true, &mut tracker, &mut status, &mut mouse);
+        if tick.log {
+            logged.push(ms);
+        }
+    }
+    assert_eq!(
+        logged,
+        [9003],
+        "none before 5000, one late at 9003, none doubled"
+    );
+}
+
+#[test]
+fn the_mouse_services_its_reports_with_its_devices_state() {
+    // With no host the device stays in its default state: fresh counts are accounted as
+    // discarded, and a button change waits.
+    let alloc = UsbBusAllocator::new(NoHost);
+    let mut mouse = Mouse::new(&alloc).expect("identity fits");
+    mouse.service([10, -4, 7]);
+    assert_eq!(mouse.reports().reporter().discarded(), (10, 4));
+    assert!(!mouse.reports().pending());
+    mouse.set_buttons(imu_core::hid::buttons::RIGHT);
+    assert!(mouse.reports().pending());
+    assert!(!mouse.remote_wakeup_enabled());
 }

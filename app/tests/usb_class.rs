@@ -166,6 +166,14 @@ fn class_requests_behave_as_usbd_hid_implements_them() {
             .control_read(&mut cls, inn, HID_GET_PROTOCOL, 0, 0, 1)
             .expect("GET_PROTOCOL");
         assert_eq!(p, [1]);
+        // A host that asks for the boot protocol (0) gets report protocol anyway: the class
+        // forces it, so the 4-byte report with its wheel byte stays what the host parses.
+        dev.control_write(&mut cls, out, HID_SET_PROTOCOL, 0, 0, 0, &[])
+            .expect("SET_PROTOCOL(boot) is accepted");
+        let p = dev
+            .control_read(&mut cls, inn, HID_GET_PROTOCOL, 0, 0, 1)
+            .expect("GET_PROTOCOL");
+        assert_eq!(p, [1], "still report protocol");
         // GET_REPORT and GET_IDLE always stall in usbd-hid 0.10.
         let r = dev.control_read(&mut cls, inn, HID_GET_REPORT, 0x0100, 0, 4);
         assert_eq!(r, Err(AnyUsbError::EP0Stalled));

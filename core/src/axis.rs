@@ -119,25 +119,10 @@ impl Axis {
         self.last
     }
 
-    /// Accounts for `lost` samples that the ADC or DMA dropped, by holding the last code.
-    ///
-    /// A lost sample is lost time, and lost time is a position error: the hold keeps the
-    /// integrator's clock equal to the hardware's. Costs as much as `lost` samples.
-    pub fn hold(&mut self, settings: &Settings, lost: u32) {
-        for _ in 0..lost {
-            self.update(settings, self.last);
-        }
-    }
-
     /// Drains the position accumulated since the last call into whole mouse counts, carrying
     /// the remainder.
     pub fn take_counts(&mut self, settings: &Settings) -> i32 {
         let z = self.integrator.take_position();
         settings.readout().take(&mut self.readout, z)
-    }
-
-    /// The read-out remainder not yet delivered [counts].
-    pub fn pending_counts(&self, settings: &Settings) -> f64 {
-        self.readout.pending_counts(settings.readout())
     }
 }

@@ -101,6 +101,12 @@ mod tests {
         let ev = run(&mut d, &[true, true, true, false, false, false]);
         assert_eq!(ev[2], Some(ButtonEvent::Pressed));
         assert_eq!(ev[5], Some(ButtonEvent::Released));
+        let mut d = Debouncer::new(3, 1000);
+        run(&mut d, &[true, true, true]);
+        assert!(
+            d.is_pressed(),
+            "the debounced state follows a settled press"
+        );
     }
 
     #[test]

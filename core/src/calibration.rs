@@ -128,11 +128,6 @@ impl Calibrator {
         }
     }
 
-    /// Window length [samples].
-    pub const fn window(&self) -> u32 {
-        self.window
-    }
-
     /// Samples accumulated so far.
     pub const fn samples(&self) -> u32 {
         self.n
@@ -238,14 +233,16 @@ impl Calibrator {
         let c1 = k * k * self.ticks_lag1 as i128 - (k + 1) * s2 + k * s * (f1 + l1);
         let c2 = k * k * self.ticks_lag2 as i128 - (k + 2) * s2 + k * s * (f1 + f2 + l2 + l1);
         let den = k * k * k * i128::from(self.tick);
+        // floor(num 2^32 / den), saturating at u64::MAX, in one exact path: the quotient's
+        // whole part shifted, plus the remainder's fraction (rem < den = k^3 tick <= 2^72,
+        // since k tick <= 2^24, so rem 2^32 fits).
         let q32 = |num: i128| -> u64 {
             let num = num.max(0);
-            let v = if num < 1 << 94 {
-                (num << 32) / den
-            } else {
-                (num / den) << 32
-            };
-            v.min(i128::from(u64::MAX)) as u64
+            let whole = num / den;
+            if whole >= 1 << 32 {
+                return u64::MAX;
+            }
+            ((whole << 32) + ((num % den) << 32) / den) as u64
         };
         let g0 = q32(c0);
         let long = q32(c0 + 2 * c1 + 2 * c2);
@@ -255,7 +252,10 @@ impl Calibrator {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
+    use std::string::ToString;
+    use std::vec::Vec;
 
     fn cal(window: u32, var_max_lsb2: u64) -> Calibrator {
         Calibrator::new(window, var_max_lsb2 << 16, 12, 2)
@@ -308,6 +308,139 @@ mod tests {
         let r = c.finish().expect("at rest");
         let ratio = r.long_run_var_q32 as f64 / r.tick_var_q32 as f64;
         assert!((ratio - 2.0).abs() < 0.01, "{ratio}");
+    }
+
+    /// The tick variances of `codes` in f64 from their definition (see [`Calibration`]):
+    /// tick sums `t`, centred lag sums `C_l = sum (t[i] - m)(t[i-l] - m)`, `g_l = C_l / k`,
+    /// per sample `/ tick`; floored at 1/4 LSB^2, the long-run one also at half the tick one.
+    fn tick_variances_f64(codes: &[u16], tick: usize) -> (f64, f64) {
+        let t: Vec<f64> = codes
+            .chunks_exact(tick)
+            .map(|c| c.iter().map(|&x| f64::from(x)).sum())
+            .collect();
+        let k = t.len() as f64;
+        if t.len() < 4 {
+            return (0.25, 0.25);
+        }
+        let m = t.iter().sum::<f64>() / k;
+        let c = |l: usize| -> f64 { (l..t.len()).map(|i| (t[i] - m) * (t[i - l] - m)).sum() };
+        let per = k * tick as f64;
+        let g0 = c(0) / per;
+        let long = (c(0) + 2.0 * c(1) + 2.0 * c(2)) / per;
+        (g0.max(0.25), long.max(g0 / 2.0).max(0.25))
+    }
+
+    #[test]
+    fn tick_variances_match_their_definition() {
+        // Random windows: tick sizes 1 to 500, 4 to 3000 ticks, quiet and full-range noisy
+        // codes, correlated (a walk) and not; the Q32 values are the f64 definition floored,
+        // to 1e-9 relative (f64's own error on these sums).
+        let mut state = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for case in 0..300 {
+            let tick = 1 + (next() % 500) as usize;
+            let ticks = 4 + (next() % 3000) as usize;
+            let n = (tick * ticks).min(1 << 20);
+            let spread = [2, 40, 65_000][case % 3];
+            let walk = case % 2 == 1;
+            let mut level = 30_000i64;
+            let codes: Vec<u16> = (0..n)
+                .map(|_| {
+                    let d = (next() % spread) as i64 - spread as i64 / 2;
+                    if walk {
+                        level = (level + d / 8).clamp(1, 65_534);
+                        level as u16
+                    } else {
+                        (30_000 + d).clamp(1, 65_534) as u16
+                    }
+                })
+                .collect();
+            let mut c = Calibrator::new(n as u32, u64::MAX, 16, tick as u32);
+            codes.iter().for_each(|&x| c.push(AdcCode(x)));
+            let (tv, lv) = c.tick_variances();
+            let (want_t, want_l) = tick_variances_f64(&codes, tick);
+            for (got, want) in [(tv, want_t), (lv, want_l)] {
+                let got = got as f64 / 2f64.powi(32);
+                let want = want.min(u64::MAX as f64 / 2f64.powi(32));
+                assert!(
+                    (got - want).abs() <= 1e-9 * want + 2f64.powi(-32),
+                    "case {case}: tick {tick}, {ticks} ticks: {got} against {want}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_long_run_variance_is_at_least_half_the_tick_variance() {
+        // Ticks in a period of three, deviations +10, +10, -20: g0 = 200, g1 = g2 = -100, so
+        // g0 + 2 g1 + 2 g2 = -200: the anticorrelation would claim less than no noise at all.
+        // The long-run variance is held at g0 / 2.
+        let mut c = Calibrator::new(3000, u64::MAX, 12, 1);
+        for i in 0..3000 {
+            c.push(AdcCode([2010, 2010, 1980][i % 3]));
+        }
+        let (tick, long) = c.tick_variances();
+        assert_eq!(tick, 200 << 32);
+        assert_eq!(long, 100 << 32);
+    }
+
+    #[test]
+    fn four_ticks_are_enough_and_three_are_not() {
+        // Ticks of one sample: with 4 the variances are measured (here far above the floor),
+        // with 3 both are the floor of 1/4 LSB^2.
+        let mut c = Calibrator::new(4, u64::MAX, 12, 1);
+        for x in [1000, 3000, 1000, 3000] {
+            c.push(AdcCode(x));
+        }
+        let (t, _) = c.tick_variances();
+        assert_eq!(t, 1_000_000 << 32, "g0 = 4 ticks of 1000^2 / 4");
+        let mut c = Calibrator::new(3, u64::MAX, 12, 1);
+        for x in [1000, 3000, 1000] {
+            c.push(AdcCode(x));
+        }
+        assert_eq!(c.tick_variances(), (1 << 30, 1 << 30));
+    }
+
+    #[test]
+    fn noise_exactly_at_the_bound_is_rest() {
+        // 16 samples, one of them 1 LSB up: scatter n sum d^2 - (sum d)^2 = 15, dof 240,
+        // variance 1/16 LSB^2 = 4096 in Q16. At a bound of exactly that it is rest; one
+        // below, motion.
+        let codes = core::iter::once(2001).chain([2000; 15]);
+        let mut at = Calibrator::new(16, 4096, 12, 4);
+        let mut below = Calibrator::new(16, 4095, 12, 4);
+        for x in codes {
+            at.push(AdcCode(x));
+            below.push(AdcCode(x));
+        }
+        assert!(at.finish().is_ok());
+        assert!(matches!(
+            below.finish(),
+            Err(CalibrationError::Motion { .. })
+        ));
+        assert_eq!(at.samples(), 16);
+    }
+
+    #[test]
+    fn errors_say_what_went_wrong() {
+        let clipped = CalibrationError::Clipped { code: 4095 }.to_string();
+        assert!(
+            clipped.contains("4095") && clipped.contains("rail"),
+            "{clipped}"
+        );
+        let motion = CalibrationError::Motion {
+            noise_rms_q16: 3 << 16,
+        }
+        .to_string();
+        assert!(
+            motion.contains("motion") && motion.contains("3.000 LSB"),
+            "{motion}"
+        );
     }
 
     #[test]

@@ -213,6 +213,29 @@ mod tests {
     use super::*;
 
     #[test]
+    fn button_bits_are_the_descriptors_buttons_1_to_3() {
+        // The descriptor's usages 1..3 map to bits 0..2, in that order (HID 1.11, 6.2.2.7).
+        assert_eq!(
+            (buttons::LEFT, buttons::RIGHT, buttons::MIDDLE, buttons::ALL),
+            (1, 2, 4, 7)
+        );
+    }
+
+    #[test]
+    fn reports_counts_every_accepted_report() {
+        let mut r = Reporter::default();
+        r.add_motion(300, 0);
+        let mut sent = 0;
+        while let Some(report) = r.pending() {
+            r.sent(&report);
+            sent += 1;
+            assert!(sent < 10, "the motion must drain");
+        }
+        assert_eq!((sent, r.reports()), (3, 3)); // 127 + 127 + 46
+        assert_eq!(r.sent_total(), (300, 0));
+    }
+
+    #[test]
     fn descriptor_declares_a_four_byte_report() {
         // 3 + 5 bits of buttons and padding, then 3 x 8 bits.
         assert_eq!(MOUSE_REPORT_DESCRIPTOR.len(), 52);

@@ -34,10 +34,12 @@ pub enum Indicator {
 }
 
 /// The USB link as the device sees it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Link {
-    /// Not configured: unplugged, reset, or enumeration not (yet) done.
+    /// Not configured: unplugged, reset, or enumeration not (yet) done (the state at
+    /// power-up).
+    #[default]
     NotConfigured,
     /// Configured by the host: reports flow.
     Configured,

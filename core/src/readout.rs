@@ -106,13 +106,6 @@ impl Readout {
     }
 }
 
-impl ReadoutState {
-    /// The remainder not yet delivered, in counts (for host-side analysis).
-    pub fn pending_counts(&self, readout: &Readout) -> f64 {
-        self.carry as f64 * crate::math::ldexp(1.0, -(readout.shift as i32))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -83,7 +83,10 @@ impl Snapshot {
         sampler: &mut impl Mutex<T = Sampler>,
         mouse: &mut impl Mutex<T = Mouse<'static, UsbBusType>>,
     ) -> Self {
-        let (reports, drops, link) = mouse.lock(|m| (m.reports(), m.drops(), m.link()));
+        let (reports, drops, link) = mouse.lock(|m| {
+            let r = m.reports();
+            (r.reporter().reports(), r.drops(), r.link())
+        });
         Self {
             tracker: tracker.lock(|t| t.counters()),
             ledger: sampler.lock(|s| s.ledger().counters()),

@@ -190,7 +190,7 @@ pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summ
     let mut hk = Housekeeping::new(key, false, Led::default(), false, device::TIMING, 0);
 
     let waited = Instant::now();
-    while mouse.link() != Link::Configured {
+    while mouse.reports().link() != Link::Configured {
         if waited.elapsed().as_secs_f64() > s.wait_host_s {
             return Err(TwinError::NoHost(s.wait_host_s));
         }
@@ -222,8 +222,8 @@ pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summ
             );
         } else {
             scene_key.store(false, Ordering::Relaxed);
-            let owed = mouse.pending() || monitor.in_flight();
-            if drain_left == 0 || (!owed && mouse.link() == Link::Configured) {
+            let owed = mouse.reports().pending() || monitor.in_flight();
+            if drain_left == 0 || (!owed && mouse.reports().link() == Link::Configured) {
                 break;
             }
             drain_left -= 1;
@@ -232,7 +232,7 @@ pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summ
         let (dx, dy) = screen_motion(counts);
         produced[0] += i64::from(dx);
         produced[1] += i64::from(dy);
-        let before = mouse.reports();
+        let before = mouse.reports().reporter().reports();
         mouse.service(counts);
         hk.tick(
             ms,
@@ -246,7 +246,7 @@ pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summ
             late_ticks += 1;
         }
         serve_until(&mut mouse, next);
-        per_ms.push(mouse.reports().wrapping_sub(before));
+        per_ms.push(mouse.reports().reporter().reports().wrapping_sub(before));
         ms += 1;
     }
     Ok(summary(
@@ -269,7 +269,8 @@ fn summary(
     late_ticks: u32,
     blocks: usize,
 ) -> Summary {
-    let (sent, discarded, owed) = (mouse.sent_total(), mouse.discarded(), mouse.undelivered());
+    let r = mouse.reports().reporter();
+    let (sent, discarded, owed) = (r.sent_total(), r.discarded(), r.undelivered());
     let peak = per_ms
         .windows(1000.min(per_ms.len()).max(1))
         .map(|w| w.iter().sum::<u32>())
@@ -282,7 +283,7 @@ fn summary(
         sent: [sent.0, sent.1],
         discarded: [discarded.0, discarded.1],
         undelivered: [owed.0, owed.1],
-        reports: mouse.reports(),
+        reports: mouse.reports().reporter().reports(),
         peak_report_rate_hz: peak,
         imports: t.imports,
         urbs: t.urbs,

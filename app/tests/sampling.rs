@@ -1,0 +1,122 @@
+//! The sample path's glue (`imu_app::sampling`) and the status it feeds: unfilled buffers
+//! are recognised, blocks reach the tracker (lost samples first), calibration outcomes reach
+//! the LED, and while suspended blocks are only motion probes that can wake the host.
+
+use imu_app::sampling::{filled, mark_unfilled, on_block, UNFILLED};
+use imu_app::{device, Status};
+use imu_core::{Delivery, Event, Indicator, Link, PowerAction, Tracker};
+use rtic_core::Exclusive;
+
+fn tracker() -> Tracker {
+    Tracker::new(&device::tracker_config(3000)).expect("valid")
+}
+
+#[test]
+fn a_buffer_is_filled_only_once_its_last_word_is_a_code() {
+    let mut buffer = [2048u16; 9];
+    assert!(filled(&buffer));
+    mark_unfilled(&mut buffer);
+    assert_eq!(buffer[8], UNFILLED);
+    assert!(!filled(&buffer), "the DMA never wrote it");
+    buffer[8] = 4095;
+    assert!(filled(&buffer), "a rail is still a code");
+    assert!(!filled(&[]), "an empty buffer holds nothing");
+    let mut empty: [u16; 0] = [];
+    mark_unfilled(&mut empty);
+}
+
+#[test]
+fn blocks_reach_the_tracker_with_lost_samples_first() {
+    let (mut t, mut s) = (tracker(), Status::new(20));
+    let block = [[2048, 2048, 2457]; 3];
+    assert_eq!(
+        on_block(
+            &block,
+            Delivery::OnTime,
+            1,
+            &mut Exclusive(&mut t),
+            &mut Exclusive(&mut s)
+        ),
+        None
+    );
+    on_block(
+        &block,
+        Delivery::Late(6),
+        2,
+        &mut Exclusive(&mut t),
+        &mut Exclusive(&mut s),
+    );
+    let c = t.counters();
+    assert_eq!((c.samples, c.lost), (6, 6));
+}
+
+#[test]
+fn calibration_outcomes_reach_the_led() {
+    // A window with motion is rejected: returned, recorded, and shown (flicker for 1 s);
+    // one on a rail shows the fault pattern.
+    let (mut t, mut s) = (tracker(), Status::new(20));
+    let mut event = None;
+    for k in 0..1000u32 {
+        let c = if k % 2 == 0 { 1800 } else { 2300 };
+        let e = on_block(
+            &[[c, 2048, 2457]; 3],
+            Delivery::OnTime,
+            k,
+            &mut Exclusive(&mut t),
+            &mut Exclusive(&mut s),
+        );
+        event = event.or(e);
+    }
+    assert!(matches!(event, Some(Event::Rejected { .. })), "{event:?}");
+    assert_eq!(
+        s.indicator(Link::Configured, true, &t, 1000),
+        Indicator::Rejected
+    );
+    let (mut t, mut s) = (tracker(), Status::new(20));
+    for k in 0..1000u32 {
+        on_block(
+            &[[0, 2048, 2457]; 3],
+            Delivery::OnTime,
+            k,
+            &mut Exclusive(&mut t),
+            &mut Exclusive(&mut s),
+        );
+    }
+    assert_eq!(
+        s.indicator(Link::Configured, true, &t, 1000),
+        Indicator::Fault
+    );
+}
+
+#[test]
+fn suspended_blocks_are_probes_that_wake_the_host_on_motion() {
+    let (mut t, mut s) = (tracker(), Status::new(20));
+    assert!(!s.suspended());
+    assert_eq!(
+        s.power(0, Link::Suspended, true, false),
+        PowerAction::Suspend
+    );
+    assert!(s.suspended());
+    let rest = [[2048, 2048, 2457]; 3];
+    for ms in 1..10u32 {
+        let e = on_block(
+            &rest,
+            Delivery::OnTime,
+            ms,
+            &mut Exclusive(&mut t),
+            &mut Exclusive(&mut s),
+        );
+        assert_eq!(e, None);
+        assert_eq!(s.power(ms, Link::Suspended, true, false), PowerAction::None);
+    }
+    assert_eq!(t.counters().samples, 0, "probes are not tracking data");
+    let moved = [[2048 + 21, 2048, 2457]; 3];
+    on_block(
+        &moved,
+        Delivery::OnTime,
+        10,
+        &mut Exclusive(&mut t),
+        &mut Exclusive(&mut s),
+    );
+    assert_eq!(s.power(11, Link::Suspended, true, false), PowerAction::Wake);
+}
