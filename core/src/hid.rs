@@ -61,8 +61,8 @@ pub mod buttons {
     pub const RIGHT: u8 = 1 << 1;
     /// Middle button (button 3).
     pub const MIDDLE: u8 = 1 << 2;
-    /// All buttons the descriptor declares.
-    pub const ALL: u8 = LEFT | RIGHT | MIDDLE;
+    /// All buttons the descriptor declares: bits 0 to 2.
+    pub const ALL: u8 = 0b111;
 }
 
 /// Maps the tracker's counts `[x, y, z]` to HID motion (right, down) for a sensor mounted

@@ -150,6 +150,27 @@ mod tests {
     }
 
     #[test]
+    fn patterns_switch_at_their_documented_edges() {
+        use Indicator::*;
+        // Calibrating blinks at 4 Hz (125 ms on, 125 off), Rejected at 10 Hz (50 and 50),
+        // Fault flashes three times for 100 ms (at 0, 200 and 400 ms) in every 2 s.
+        let cases: [(Indicator, &[u32], &[u32]); 3] = [
+            (Calibrating, &[0, 1, 124, 250], &[125, 126, 249, 375]),
+            (Rejected, &[0, 1, 49, 100], &[50, 51, 99, 150]),
+            (Fault, &[0, 99, 200, 499], &[100, 199, 500, 599, 600, 1999]),
+        ];
+        for (ind, on, off) in cases {
+            for &t in on {
+                assert!(ind.lit(t), "{ind:?} lit at {t} ms");
+            }
+            for &t in off {
+                assert!(!ind.lit(t), "{ind:?} dark at {t} ms");
+            }
+        }
+        assert!(Fault.lit(2000));
+    }
+
+    #[test]
     fn duty_cycles() {
         assert_eq!(on_ms(Indicator::Calibrating, 1000), 500);
         assert_eq!(on_ms(Indicator::Rejected, 1000), 500);

@@ -211,7 +211,9 @@ impl SampleLedger {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
+    use std::string::ToString;
 
     const CPS: u32 = 32_000; // 96 MHz / 3 kHz
 
@@ -237,6 +239,55 @@ mod tests {
         // 67109 samples of 32000 cycles pass 2^31.
         assert!(SampleLedger::new(96_000_000, 3000, 67_108).is_ok());
         assert!(SampleLedger::new(96_000_000, 3000, 67_109).is_err());
+    }
+
+    #[test]
+    fn errors_name_the_parameter_and_the_ledger_its_period() {
+        let e = LedgerError::SampleRate {
+            fs_hz: 7000,
+            cycles_hz: 96_000_000,
+        };
+        assert!(e.to_string().starts_with("fs_hz = 7000: "), "{e}");
+        let e = LedgerError::Block { block: 0 };
+        assert!(e.to_string().starts_with("block = 0: "), "{e}");
+        assert_eq!(ledger().cycles_per_sample(), CPS);
+    }
+
+    #[test]
+    fn running_from_start_to_pause() {
+        let mut l = ledger();
+        assert!(!l.running());
+        l.start(0);
+        assert!(l.running());
+        l.pause();
+        assert!(!l.running());
+    }
+
+    #[test]
+    fn gaps_round_to_the_nearest_period() {
+        // Blocks of 3 samples, 96 000 cycles apart: a gap of 1.4 periods is interrupt
+        // latency (on time), 1.6 periods is one overwritten block (3 samples lost).
+        let period = 3 * CPS;
+        for (gap, lost) in [(14 * period / 10, 0), (16 * period / 10, 3)] {
+            let mut l = ledger();
+            l.start(0);
+            l.block(period);
+            let got = l.block(period + gap);
+            let want = if lost == 0 {
+                Delivery::OnTime
+            } else {
+                Delivery::Late(lost)
+            };
+            assert_eq!(got, want, "gap {gap}");
+        }
+        // A restart counts the samples since the last good block, to the nearest one.
+        for (elapsed, lost) in [(24 * CPS / 10, 2), (26 * CPS / 10, 3)] {
+            let mut l = ledger();
+            l.start(0);
+            l.block(period);
+            l.block(2 * period);
+            assert_eq!(l.restart(2 * period + elapsed), lost, "elapsed {elapsed}");
+        }
     }
 
     #[test]

@@ -59,11 +59,6 @@ impl Lowpass {
         self.k_q32
     }
 
-    /// The realised pole `q = 1 - k_q32 / 2^32` (for host-side analysis).
-    pub fn pole(&self) -> f64 {
-        1.0 - f64::from(self.k_q32) / 4_294_967_296.0
-    }
-
     /// Filters one sample and returns the output in Q16 counts (`0..=65535 * 2^16`).
     ///
     /// The Q64 update `p = k (x 2^32 - y^) + r` is computed in 64-bit pieces (a Cortex-M4

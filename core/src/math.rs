@@ -44,36 +44,26 @@ pub(crate) fn neg_expm1(x: f64) -> f64 {
     if x <= 1.0 {
         // x - x^2/2! + x^3/3! - ..., Horner form from the 24th term down (x^25/25! < 1e-25).
         let mut acc = 0.0;
-        let mut n = 24.0;
-        while n >= 1.0 {
-            acc = x / n * (1.0 - acc);
-            n -= 1.0;
+        for n in (1..=24u32).rev() {
+            acc = x / f64::from(n) * (1.0 - acc);
         }
         acc
     } else {
         let mut term = 1.0;
         let mut sum = 1.0;
-        let mut n = 1.0;
-        while n <= 40.0 {
-            term *= x / n;
+        for n in 1..=40u32 {
+            term *= x / f64::from(n);
             sum += term;
-            n += 1.0;
         }
         1.0 - 1.0 / sum
     }
 }
 
-/// `x * 2^e` exactly (for results in the normal range), without `std`.
-pub(crate) fn ldexp(mut x: f64, mut e: i32) -> f64 {
-    while e > 0 {
-        x *= 2.0;
-        e -= 1;
-    }
-    while e < 0 {
-        x *= 0.5;
-        e += 1;
-    }
-    x
+/// `x * 2^e` exactly, without `std`, for `e` in `-1022..=1023` (a normal power of two)
+/// and a result in the normal range: the power is built from its exponent bits.
+pub(crate) fn ldexp(x: f64, e: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&e));
+    x * f64::from_bits(((e + 1023) as u64) << 52)
 }
 
 /// Nearest integer to a finite `x` with `0 <= x < 2^63`, ties rounded up.
@@ -115,6 +105,26 @@ mod tests {
     }
 
     #[test]
+    fn isqrt_of_two_is_one() {
+        assert_eq!(isqrt_u128(2), 1);
+    }
+
+    #[test]
+    fn div_round_rounds_half_away_from_zero() {
+        for (d, n, q) in [
+            (7, 2, 4),
+            (-7, 2, -4),
+            (5, 3, 2),
+            (-5, 3, -2),
+            (1, 3, 0),
+            (-1, 3, 0),
+        ] {
+            assert_eq!(div_round(d, n), q, "{d} / {n}");
+        }
+        assert_eq!(div_round(0, 5), 0);
+    }
+
+    #[test]
     fn round_shr_rounds_half_up_not_down() {
         assert_eq!(round_shr(3, 1), 2); // 1.5 -> 2
         assert_eq!(round_shr(-3, 1), -1); // -1.5 -> -1 (half up)
@@ -137,6 +147,9 @@ mod tests {
     fn ldexp_and_rounding_are_exact() {
         assert_eq!(ldexp(3.0, 40), 3.0 * (1u64 << 40) as f64);
         assert_eq!(ldexp(3.0, -2), 0.75);
+        assert_eq!(ldexp(3.0, 0), 3.0);
+        assert_eq!(ldexp(1.0, -1022), f64::MIN_POSITIVE);
+        assert_eq!(ldexp(1.0, 1023), 2f64.powi(1023));
         assert_eq!(round_to_u64(2.5), 3);
         assert_eq!(round_to_u64(2.499_999_999_999_999_6), 2);
         assert_eq!(round_to_u64(0.0), 0);

@@ -184,6 +184,7 @@ mod tests {
         suspended(&mut p);
         p.probe([2048, 2048, 2458]);
         p.probe([2060, 2036, 2470]); // 12 codes: noise
+        p.probe([2048, 2049, 2458]); // still
         assert_eq!(p.tick(10, Link::Suspended, true, false), PowerAction::None);
         p.probe([2048, 2048, 2471]); // 13 codes on z: moved (or tilted)
         assert_eq!(p.tick(11, Link::Suspended, true, false), PowerAction::Wake);
