@@ -41,13 +41,12 @@ impl Readout {
         if !(counts_per_unit >= crate::math::ldexp(1.0, -63) && counts_per_unit < TWO_31) {
             return None;
         }
-        let mut shift = 0;
-        let mut m = counts_per_unit;
-        while m < TWO_31 {
-            m *= 2.0;
-            shift += 1;
-        }
-        // m in [2^31, 2^32), shift in 1..=94. Rounding may reach 2^32: renormalise, and
+        // floor(log2(ratio)) from the exponent bits (the ratio is a normal float), so that
+        // m = ratio 2^shift lies in [2^31, 2^32) with shift in 1..=94.
+        let exponent = ((counts_per_unit.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+        let mut shift = (31 - exponent) as u32;
+        let m = crate::math::ldexp(counts_per_unit, 31 - exponent);
+        // Rounding may reach 2^32: renormalise, and
         // refuse the one ratio (within 2^-2 of 2^31) that would then need shift 0.
         let mut mult = crate::math::round_to_u64(m);
         if mult == 1 << 32 {
@@ -91,11 +90,7 @@ impl Readout {
                 let lo = u64::from(z as u32) * u64::from(self.mult);
                 (i128::from(hi) << 32) + i128::from(lo)
             }
-            Err(_) => z.checked_mul(i128::from(self.mult)).unwrap_or(if z < 0 {
-                i128::MIN
-            } else {
-                i128::MAX
-            }),
+            Err(_) => z.saturating_mul(i128::from(self.mult)),
         };
         let x = state.carry.saturating_add(zm);
         let n_full = x.saturating_add(1 << (self.shift - 1)) >> self.shift;
@@ -125,6 +120,14 @@ mod tests {
             Readout::from_ratio(2_147_483_647.0).map(|r| r.shift()),
             Some(1)
         );
+        // Just below 1 rounds up to M = 2^32: renormalised to exactly 1 (2^31 / 2^31).
+        let r = Readout::from_ratio(1.0 - crate::math::ldexp(1.0, -34)).expect("in range");
+        assert_eq!((r.mult(), r.shift()), (1 << 31, 31));
+        // Exactly a power of two, at both ends of the range.
+        let r = Readout::from_ratio(1.0).expect("in range");
+        assert_eq!((r.mult(), r.shift()), (1 << 31, 31));
+        let r = Readout::from_ratio(crate::math::ldexp(1.0, -63)).expect("in range");
+        assert_eq!((r.mult(), r.shift()), (1 << 31, 94));
     }
 
     #[test]
@@ -165,6 +168,17 @@ mod tests {
                 .clamp(i128::from(i32::MIN), i128::from(i32::MAX));
             b.carry = x - (n << r.shift());
             assert_eq!((got, a), (n as i32, b), "z = {z}");
+        }
+    }
+
+    #[test]
+    fn a_position_beyond_the_product_range_saturates_by_its_sign() {
+        // |z M| beyond i128 (z near 2^126): the largest count of the right sign, never a
+        // wrap to the other side of the screen.
+        let r = Readout::from_ratio(1.0).expect("in range");
+        for (z, n) in [(i128::MAX / 2, i32::MAX), (i128::MIN / 2, i32::MIN)] {
+            let mut s = ReadoutState::default();
+            assert_eq!(r.take(&mut s, z), n);
         }
     }
 

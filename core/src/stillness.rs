@@ -1128,6 +1128,101 @@ mod tests {
     }
 
     #[test]
+    fn validated_settings_are_their_definitions_and_edges_hold() {
+        // Each derived value from its definition: q8(x) = round(256 x), the lift in Q16 codes,
+        // the bias time constant in samples. At 3 kHz a tick is 15 samples (5 ms).
+        let (fs, lsb) = (3000.0, 0.023942);
+        let d = Drift {
+            lift_m_s2: Some(0.3),
+            bias_tau_s: Some(2.0),
+            ..Drift::default()
+        };
+        let v = |d: Drift| d.validate(3000, lsb);
+        let s = v(d).expect("valid");
+        let q8 = |x: f64| (x * 256.0).round() as u64;
+        assert_eq!(s.start_q8, q8(d.start_sigmas) as i64);
+        assert_eq!(s.quiet_k2_q8, q8(d.quiet_sigmas * d.quiet_sigmas));
+        assert_eq!(s.velocity_k2_q8, q8(d.velocity_sigmas * d.velocity_sigmas));
+        assert_eq!(s.stop_fraction_q8, q8(d.stop_fraction));
+        assert_eq!(s.rest_factor_q8, q8(d.rest_factor));
+        assert_eq!(s.lift_ratio_q8, q8(d.lift_xy_ratio) as i64);
+        assert_eq!(s.lift_q16, Some((0.3 / lsb * 65_536.0).round() as i64));
+        assert_eq!(s.bias_samples_max, Some((2.0 * fs) as u64));
+        assert_eq!(s.tilt_ticks, (d.tilt_s / 0.005).round() as u32);
+        // Windows in ticks: half a tick rounds up to the least (1 for the quiet window) and
+        // is accepted, less is not; the ring's length plus 0.4 rounds down to it.
+        let tick_s = 15.0 / fs;
+        let quiet = |q: f64| {
+            v(Drift {
+                quiet_s: q * tick_s,
+                coast_s: 1.0,
+                ..d
+            })
+        };
+        assert_eq!(quiet(0.5).map(|s| s.quiet_ticks), Ok(1));
+        assert_eq!(
+            quiet(0.49).map(|s| s.quiet_ticks),
+            Err(DriftError::QuietWindow)
+        );
+        assert_eq!(
+            quiet(RING as f64 + 0.4).map(|s| s.quiet_ticks),
+            Ok(RING as u32)
+        );
+        assert_eq!(
+            quiet(RING as f64 + 0.5).map(|s| s.quiet_ticks),
+            Err(DriftError::QuietWindow)
+        );
+        // The lift in codes must fit 2^15 (its Q16 value an i64 with room): 1000 m/s^2 is
+        // 41 767 codes here, refused; the bias time constant stops short of 1e6 s.
+        let lift = |l: f64| {
+            v(Drift {
+                lift_m_s2: Some(l),
+                ..d
+            })
+            .map(|_| ())
+        };
+        assert_eq!(lift(1000.0), Err(DriftError::Lift));
+        assert!(lift(700.0).is_ok());
+        let tau = |t: f64| {
+            v(Drift {
+                bias_tau_s: Some(t),
+                ..d
+            })
+            .map(|_| ())
+        };
+        assert_eq!(tau(1e6), Err(DriftError::BiasTau));
+        assert!(tau(999_999.0).is_ok());
+    }
+
+    #[test]
+    fn replay_primes_from_the_tick_before_the_replayed_ones() {
+        // Ticks 0..10 done, tick k ending on the sample 100 k + axis: replaying the last 3
+        // primes from tick 6; the last 9 from tick 0; the last 10 has no predecessor; a
+        // replay as long as the ring has none left in it.
+        let s = Drift::default().validate(3000, 0.023942).expect("valid");
+        let cal = Calibration {
+            bias_q16: 2048 << 16,
+            noise_rms_q16: 1 << 16,
+            samples: 3000,
+            tick_var_q32: 1 << 32,
+            long_run_var_q32: 1 << 32,
+        };
+        let mut d = Detector::new(&s, &[cal; 3]);
+        for (k, sums) in d.sums.iter_mut().enumerate().take(10) {
+            for (a, t) in sums.iter_mut().enumerate() {
+                t.last = (100 * k + a) as i64;
+            }
+        }
+        d.ticks = 10;
+        assert_eq!(d.replay_prev(3), Some([600, 601, 602]));
+        assert_eq!(d.replay_prev(9), Some([0, 1, 2]));
+        assert_eq!(d.replay_prev(10), None);
+        d.ticks = 1000;
+        assert!(d.replay_prev(REPLAY - 1).is_some());
+        assert_eq!(d.replay_prev(REPLAY), None);
+    }
+
+    #[test]
     fn ticks_scale_with_the_rate_and_windows_stay_in_time() {
         assert_eq!(tick_samples(100), 1);
         assert_eq!(tick_samples(20_000), 100);

@@ -3,7 +3,7 @@
 //! control off (or the freeze off) that does move.
 
 use imu_core::bench::testsignal::Trace;
-use imu_core::{Config, ConfigError, Drift, DriftError, Tracker};
+use imu_core::{Config, ConfigError, Drift, DriftError, DriftState, Tracker};
 
 /// Deterministic noise from the core's SplitMix64 trace generator.
 struct Noise(Trace);
@@ -513,4 +513,54 @@ fn a_sampling_restart_mid_stroke_stops_the_motion_instead_of_holding_it() {
             "{drift:?}: the hold moved only {after_held}"
         );
     }
+}
+
+/// A tracker moving: a push of 30 LSB on X for `samples` samples.
+fn moving(drift: Drift, samples: usize) -> Tracker {
+    let mut t = tracker(Some(drift));
+    run(&mut t, samples, |_| [2078, 2048, 2048]);
+    assert_eq!(t.drift_state(), Some(DriftState::Moving));
+    t
+}
+
+#[test]
+fn a_restart_leaves_the_detector_at_rest() {
+    let mut t = moving(Drift::default(), 300);
+    t.restarted(30);
+    assert_eq!(t.drift_state(), Some(DriftState::Still));
+}
+
+#[test]
+fn a_click_discards_a_held_motion_and_stops_a_delivered_one() {
+    // A motion younger than the hold (16 ms) is the click's own jolt: discarded. An older
+    // one was the hand's: it stops (zero velocity), and is not counted as discarded.
+    let young = 30; // 10 ms of push: two detector ticks, the fast alarm after the first
+    let mut t = tracker(Some(Drift::default()));
+    run(&mut t, young, |_| [2078, 2048, 2048]);
+    assert_eq!(t.drift_state(), Some(DriftState::Moving));
+    t.button_edge();
+    assert_eq!(t.counters().discarded, 1, "held motion discarded");
+    let mut t = moving(Drift::default(), 300);
+    t.button_edge();
+    assert_eq!(t.counters().discarded, 0, "a delivered motion only stops");
+    assert_eq!(t.drift_state(), Some(DriftState::Frozen));
+    assert_eq!(t.axes()[0].integrator().velocity(), 0);
+}
+
+#[test]
+fn without_a_click_freeze_a_click_stops_the_motion_at_once() {
+    let drift = Drift {
+        click_freeze_s: 0.0,
+        ..Drift::default()
+    };
+    let mut t = moving(drift, 300);
+    t.button_edge();
+    assert_eq!(t.drift_state(), Some(DriftState::Still));
+    let mut t = tracker(Some(drift));
+    t.button_edge();
+    assert_eq!(
+        t.drift_state(),
+        Some(DriftState::Still),
+        "at rest it stays at rest"
+    );
 }
