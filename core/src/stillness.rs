@@ -1222,6 +1222,264 @@ mod tests {
         assert_eq!(d.replay_prev(REPLAY), None);
     }
 
+    /// A detector at 3 kHz with a noise of exactly 1 LSB^2 per sample (long-run and tick).
+    fn unit_noise_detector() -> (DriftSettings, Detector) {
+        let s = Drift::default().validate(3000, 0.023942).expect("valid");
+        let cal = Calibration {
+            bias_q16: 2048 << 16,
+            noise_rms_q16: 1 << 16,
+            samples: 3000,
+            tick_var_q32: 1 << 32,
+            long_run_var_q32: 1 << 32,
+        };
+        let mut d = Detector::new(&s, &[cal; 3]);
+        d.noise = [Noise::new(&s, 1 << 32, 1 << 32); 3];
+        (s, d)
+    }
+
+    #[test]
+    fn an_offset_is_explained_within_its_sd_including_the_bias_uncertainty() {
+        // q = 1 LSB^2, n = 300 samples, a bias from 3000: var = n + n^2 / N_b = 330 LSB^2;
+        // at 1 sd the largest explained offset is sqrt(330) 2^16 = 1 190 520.5 (Q16).
+        let (_, d) = unit_noise_detector();
+        assert!(d.explained_against(0, 1_190_520, 300, 256, 3000));
+        assert!(!d.explained_against(0, 1_190_521, 300, 256, 3000));
+        assert!(!d.explained_against(0, -1_190_521, 300, 256, 3000));
+    }
+
+    #[test]
+    fn steadiness_reads_the_last_complete_ticks_only() {
+        // Ten ticks of 15 samples at one level; the slot the next tick will fill holds an old
+        // outlier. The last k complete ticks are steady; reading one slot too far is not.
+        let (s, mut d) = unit_noise_detector();
+        d.ticks = 10;
+        for slot in d.codes.iter_mut() {
+            *slot = [15 * 2048; 3];
+        }
+        d.codes[10 % RING] = [15 * 2200; 3];
+        assert!(d.steady(&s, 10, Slack::FIND));
+        d.codes[9] = [15 * 2200; 3];
+        assert!(!d.steady(&s, 10, Slack::FIND));
+    }
+
+    #[test]
+    fn steadiness_bounds_are_exact() {
+        // Two ticks (k = 2) of D = 15 samples, tick sums v (newest) and u. Scatter
+        // k sum s^2 - (sum s)^2 = (v - u)^2 against rest_factor k (k - 1) D g0 = 60 (g0 = 1):
+        // 7 apart is steady, 8 is not. Trend v - u against quiet_sigmas^2 q D k (k^2 - 1) / 3
+        // = 9 * 30 = 270 (q = 1): 16 apart is steady, 17 is not. Each bound alone: the other
+        // noise figure made huge.
+        let (s, mut d) = unit_noise_detector();
+        d.ticks = 10;
+        let base = 15 * 2048;
+        let mut apart = |d: &mut Detector, q: u64, g0: u64, diff: u32| {
+            d.noise = [Noise::new(&s, q, g0); 3];
+            d.codes[9] = [base + diff; 3];
+            d.codes[8] = [base; 3];
+            d.steady(&s, 2, Slack::FIND)
+        };
+        assert!(apart(&mut d, 1 << 50, 1 << 32, 7));
+        assert!(!apart(&mut d, 1 << 50, 1 << 32, 8));
+        assert!(apart(&mut d, 1 << 32, 1 << 50, 16));
+        assert!(!apart(&mut d, 1 << 32, 1 << 50, 17));
+    }
+
+    #[test]
+    fn a_lift_is_a_z_offset_beyond_its_bound_plus_a_share_of_the_horizontal() {
+        // Last tick's offsets from the bias in codes (x, y, z); lift 1 LSB (Q16) per sample:
+        // z must exceed D = 15 codes plus lift_ratio (1/4) of |x| + |y|.
+        let (mut s, mut d) = unit_noise_detector();
+        s.lift_q16 = Some(1 << 16);
+        s.lift_ratio_q8 = 64;
+        d.ticks = 10;
+        let bias = [2048i64 << 16; 3];
+        let mut lifted = |x: u32, y: u32, z: u32| {
+            d.codes[9] = [15 * 2048 + x, 15 * 2048 + y, 15 * 2048 + z];
+            d.lifted(&s, bias)
+        };
+        assert!(!lifted(0, 0, 15));
+        assert!(lifted(0, 0, 16));
+        // |x| + |y| = 128 codes: 32 more allowed.
+        assert!(!lifted(100, 28, 47));
+        assert!(lifted(100, 28, 48));
+        let mut off = s;
+        off.lift_q16 = None;
+        d.codes[9] = [15 * 2048, 15 * 2048, 15 * 4095];
+        assert!(!d.lifted(&off, bias), "no lift detection configured");
+    }
+
+    /// A still detector at tick 10 (entered now), whose CUSUMs drift 1 code a tick and
+    /// alarm at 10 codes (slow) and 100 codes (fast), all at the bias 2048; the last tick's
+    /// X sum `2048 D + dx` codes.
+    fn cusum_detector(dx: i64) -> (DriftSettings, Detector) {
+        let (s, mut d) = unit_noise_detector();
+        for n in d.noise.iter_mut() {
+            n.kappa = [1 << 16, 1 << 16];
+            n.alarm = [10 << 16, 100 << 16];
+        }
+        d.ticks = 10;
+        d.entered = 10;
+        d.onset = [[[10; 2]; 2]; 2];
+        for slot in d.codes.iter_mut() {
+            *slot = [15 * 2048; 3];
+        }
+        d.codes[9][0] = (15 * 2048 + dx) as u32;
+        (s, d)
+    }
+
+    #[test]
+    fn a_slow_cusum_alarms_beyond_its_threshold_from_its_onset() {
+        // The slow CUSUM holds 9 codes since tick 5. A tick 2 codes up adds 2 - 1: exactly the
+        // alarm, no start; 3 up crosses it: a start replaying the 5 ticks since the onset,
+        // not a step (2 codes over the drift is below half the slow alarm), so the hold
+        // counts from the onset: 5 ticks of 15 samples have used 75 of its 48.
+        let bias = [2048 << 16; 3];
+        for (dx, started) in [(2, false), (3, true)] {
+            let (s, mut d) = cusum_detector(dx);
+            d.cusum[0][0][0] = 9 << 16;
+            d.onset[0][0][0] = 5;
+            let action = d.still_tick(&s, bias);
+            if started {
+                assert_eq!(action, Action::Start { ticks: 5 });
+                assert_eq!((d.motion_samples, d.hold_left), (75, 0));
+                assert_eq!(d.state, State::Moving);
+            } else {
+                assert_eq!(action, Action::None, "{dx}");
+                assert_eq!(d.cusum[0][0][0], 10 << 16);
+            }
+        }
+        // The same downwards, on the other side.
+        let (s, mut d) = cusum_detector(-3);
+        d.cusum[0][0][1] = 9 << 16;
+        d.onset[0][0][1] = 5;
+        assert_eq!(d.still_tick(&s, bias), Action::Start { ticks: 5 });
+    }
+
+    #[test]
+    fn a_jolt_is_a_step_and_holds_from_now() {
+        // One tick 12 codes up: 11 over the drift crosses the slow alarm alone and is more
+        // than half of it: a step, held the whole hold from now. 6 up is exactly half: the
+        // CUSUM holds it (5 codes), no alarm yet.
+        let bias = [2048 << 16; 3];
+        let (s, mut d) = cusum_detector(12);
+        assert_eq!(d.still_tick(&s, bias), Action::Start { ticks: 0 });
+        assert_eq!(d.hold_left, s.hold);
+        let (s, mut d) = cusum_detector(6);
+        d.cusum[0][0][0] = 5 << 16;
+        d.onset[0][0][0] = 8;
+        // 5 + 6 - 1 = 10: at the alarm, no start.
+        assert_eq!(d.still_tick(&s, bias), Action::None);
+        let (s, mut d) = cusum_detector(7);
+        d.cusum[0][0][0] = 5 << 16;
+        d.onset[0][0][0] = 8;
+        // 5 + 7 - 1 = 11 > 10 from tick 8; the tick alone (6 over the drift) is more than
+        // half the alarm: a step, held from now.
+        assert_eq!(d.still_tick(&s, bias), Action::Start { ticks: 2 });
+        assert_eq!(d.hold_left, s.hold);
+        let (s, mut d) = cusum_detector(6);
+        d.cusum[0][0][0] = 6 << 16;
+        d.onset[0][0][0] = 8;
+        // 6 + 6 - 1 = 11 > 10; the tick alone is 5 over the drift: exactly half, not a step.
+        assert_eq!(d.still_tick(&s, bias), Action::Start { ticks: 2 });
+        assert_eq!(d.hold_left, s.hold.saturating_sub(30));
+    }
+
+    #[test]
+    fn rest_updates_the_bias_from_the_tick_a_replay_can_no_longer_claim() {
+        // Still for REPLAY ticks exactly: the tick REPLAY ago (slot 10 % 64 = 10 at tick 74)
+        // is averaged in over bias_samples + D = 3015 samples; one tick earlier nothing is.
+        let (s, mut d) = cusum_detector(0);
+        let bias = [2048 << 16; 3];
+        d.ticks = 10 + REPLAY as u64 - 1;
+        assert_eq!(d.still_tick(&s, bias), Action::None);
+        let (s, mut d) = cusum_detector(0);
+        d.ticks = 10 + REPLAY as u64;
+        d.codes[10] = [15 * 2049, 15 * 2048, 15 * 2047];
+        d.bias_samples = 3000;
+        let step = (15 * 65_536 + 3015 / 2) / 3015; // div_round(15 2^16, 3015)
+        assert_eq!(
+            d.still_tick(&s, bias),
+            Action::TrackBias([(2048 << 16) + step, 2048 << 16, (2048 << 16) - step])
+        );
+    }
+
+    /// Within a tick: 5 of its 15 samples, X's sum `5 2048 + dx` codes, the slow CUSUM at
+    /// `sum_q16` since tick 5, the drift `kappa` codes a tick (pro rata here).
+    fn early(kappa: i64, sum_q16: i64, dx: i64) -> (DriftSettings, Detector) {
+        let (s, mut d) = cusum_detector(0);
+        for n in d.noise.iter_mut() {
+            n.kappa = [kappa << 16; 2];
+        }
+        d.cur_n = 5;
+        d.cur_codes = [5 * 2048; 3];
+        d.cur_codes[0] = (5 * 2048 + dx) as u32;
+        d.cusum[0][0] = [sum_q16; 2];
+        d.onset[0][0] = [5; 2];
+        (s, d)
+    }
+
+    #[test]
+    fn an_early_alarm_prorates_the_drift_over_the_samples_so_far() {
+        let bias = [2048 << 16; 3];
+        // Drift 1 code a tick is 21 845 (Q16) over 5 of 15 samples. From 9 codes, 2 codes
+        // up: 720 896 - 21 845 > 655 360, a start (a full tick's drift would be exactly at
+        // the alarm); 1 code up from 9 codes + 16 000: 649 515, none.
+        let (s, mut d) = early(1, 9 << 16, 2);
+        assert_eq!(d.early_alarm(&s, bias), Action::Start { ticks: 5 });
+        assert_eq!(d.motion_samples, 5 * 15 + 5);
+        let (s, mut d) = early(1, (9 << 16) + 16_000, 1);
+        assert_eq!(d.early_alarm(&s, bias), Action::None);
+        // Exactly at the alarm is no alarm: 611 669 + 65 536 - 21 845 = 655 360.
+        let (s, mut d) = early(1, 611_669, 1);
+        assert_eq!(d.early_alarm(&s, bias), Action::None);
+        // Downwards, on the other side.
+        let (s, mut d) = early(1, 9 << 16, -2);
+        assert_eq!(d.early_alarm(&s, bias), Action::Start { ticks: 5 });
+        // The CUSUMs themselves are not advanced mid-tick.
+        assert_eq!(d.cusum[0][0], [9 << 16; 2]);
+    }
+
+    #[test]
+    fn an_early_step_is_more_than_half_the_slow_alarm_over_the_drift() {
+        // Drift 3 codes a tick: 1 code over 5 samples. From 9 codes, 6 up: 14 > 10, and 5 over
+        // the drift is exactly half the alarm: no step, held from the onset (80 samples used
+        // all 48). 7 up: 6 over the drift, a step, held from now.
+        let bias = [2048 << 16; 3];
+        let (s, mut d) = early(3, 9 << 16, 6);
+        assert_eq!(d.early_alarm(&s, bias), Action::Start { ticks: 5 });
+        assert_eq!(d.hold_left, 0);
+        let (s, mut d) = early(3, 9 << 16, 7);
+        assert_eq!(d.early_alarm(&s, bias), Action::Start { ticks: 5 });
+        assert_eq!(d.hold_left, s.hold);
+    }
+
+    #[test]
+    fn rest_learns_the_noise_every_sixteen_ticks_as_a_slow_average() {
+        // q = 1 LSB^2. Sixteen rest ticks of 15 samples, each 3 codes over the bias: the
+        // block's offset is 48 codes over 240 samples, a variance of 48^2 / 240 = 9.6 LSB^2
+        // per sample, averaged in with weight 1/128. Fifteen ticks change nothing.
+        let (s, mut d) = unit_noise_detector();
+        let bias = [2048 << 16; 3];
+        d.codes[0] = [15 * 2048 + 3; 3];
+        for _ in 0..15 {
+            d.learn_noise(&s, 0, bias);
+        }
+        assert_eq!(d.noise[0].q_q32, 1 << 32);
+        d.learn_noise(&s, 0, bias);
+        let var: u128 = (48u128 << 16).pow(2) / 240;
+        let want = (((1u128 << 32) * 127 + var) / 128) as u64;
+        assert_eq!(d.noise[0].q_q32, want);
+        assert_eq!(d.noise[0], Noise::new(&s, want, 1 << 32));
+        // A quiet block cannot take q below a quarter of an LSB^2.
+        let (s, mut d) = unit_noise_detector();
+        d.noise = [Noise::new(&s, 1 << 30, 1 << 32); 3];
+        d.codes[0] = [15 * 2048; 3];
+        for _ in 0..16 {
+            d.learn_noise(&s, 0, bias);
+        }
+        assert_eq!(d.noise[0].q_q32, 1 << 30);
+    }
+
     #[test]
     fn ticks_scale_with_the_rate_and_windows_stay_in_time() {
         assert_eq!(tick_samples(100), 1);
