@@ -1272,7 +1272,7 @@ mod tests {
         let (s, mut d) = unit_noise_detector();
         d.ticks = 10;
         let base = 15 * 2048;
-        let mut apart = |d: &mut Detector, q: u64, g0: u64, diff: u32| {
+        let apart = |d: &mut Detector, q: u64, g0: u64, diff: u32| {
             d.noise = [Noise::new(&s, q, g0); 3];
             d.codes[9] = [base + diff; 3];
             d.codes[8] = [base; 3];
