@@ -399,7 +399,7 @@ fn velocity_is_zero_whenever_drift_control_is_not_integrating() {
         }
         t.feed(&[scene(i, &mut n)]);
         t.take_counts();
-        if t.drift_state() != Some(imu_core::DriftState::Moving) {
+        if t.drift_state() != Some(DriftState::Moving) {
             for a in t.axes() {
                 assert_eq!(
                     a.integrator().velocity(),
