@@ -1480,6 +1480,123 @@ mod tests {
         assert_eq!(d.noise[0].q_q32, 1 << 30);
     }
 
+    /// A detector moving since tick 100, now at tick `ticks`, for 300 samples, every tick
+    /// in the ring `15 (2048 + dx)` codes on X (the bias is 2048).
+    fn moving_detector(ticks: u64, dx: u32) -> (DriftSettings, Detector) {
+        let (s, mut d) = unit_noise_detector();
+        d.state = State::Moving;
+        d.entered = 100;
+        d.ticks = ticks;
+        d.motion_samples = 300;
+        for slot in d.codes.iter_mut() {
+            *slot = [15 * (2048 + dx), 15 * 2048, 15 * 2048];
+        }
+        (s, d)
+    }
+
+    #[test]
+    fn a_motion_stops_when_quiet_and_its_velocity_is_explained_or_has_fallen_or_coasted() {
+        let bias = [2048 << 16; 3];
+        // V = W / 2 against 2 sd of sqrt(q (n + n^2 / N_b)) = sqrt(330) over n = 300: W up to
+        // 2 x 2 x 18.17 x 2^16 = 4 762 082 is explained.
+        let (s, mut d) = moving_detector(110, 0);
+        assert_eq!(d.moving_tick(&s, bias, [4_700_000, 0, 0]), Action::Stop);
+        assert_eq!(d.state, State::Still);
+        let (s, mut d) = moving_detector(110, 0);
+        assert_eq!(d.moving_tick(&s, bias, [4_800_000, 0, 0]), Action::None);
+        // Or a quarter of the motion's peak: 4.8e6 against a peak of 19.2e6, not 19.1e6.
+        for (peak, stop) in [(19_200_000, true), (19_100_000, false)] {
+            let (s, mut d) = moving_detector(110, 0);
+            d.peak_w = [peak, 0];
+            let want = if stop { Action::Stop } else { Action::None };
+            assert_eq!(d.moving_tick(&s, bias, [4_800_000, 0, 0]), want, "{peak}");
+        }
+        // Or quiet for coast_s (100 ticks), whatever the velocity.
+        for (run, stop) in [(99, true), (98, false)] {
+            let (s, mut d) = moving_detector(110, 0);
+            d.quiet_run = run;
+            let want = if stop { Action::Stop } else { Action::None };
+            assert_eq!(d.moving_tick(&s, bias, [50_000_000, 0, 0]), want, "{run}");
+        }
+        // Younger than its hold, it was a jolt: discarded.
+        let (s, mut d) = moving_detector(110, 0);
+        d.hold_left = 1;
+        assert_eq!(d.moving_tick(&s, bias, [0; 3]), Action::Discard);
+    }
+
+    #[test]
+    fn a_steady_offset_for_rest_s_is_a_suspected_tilt_and_tilt_s_later_the_new_zero() {
+        let bias = [2048 << 16; 3];
+        let v = [50_000_000, 0, 0]; // moving fast: no stop
+                                    // 2 codes off on X for the whole ring, moving since tick 100: at tick 160 (rest_s =
+                                    // 60 ticks done) the tilt is suspected; at 159 the window is not yet full.
+        let (s, mut d) = moving_detector(159, 2);
+        assert_eq!(d.moving_tick(&s, bias, v), Action::None);
+        assert_eq!(d.suspect, None);
+        let (s, mut d) = moving_detector(160, 2);
+        assert_eq!(d.moving_tick(&s, bias, v), Action::None);
+        let tilt = [2050 << 16, 2048 << 16, 2048 << 16];
+        assert_eq!(d.suspect, Some((160, tilt)));
+        // No offset, no suspicion.
+        let (s, mut d) = moving_detector(160, 0);
+        d.moving_tick(&s, bias, v);
+        assert_eq!(d.suspect, None);
+        // Still settling (within 2 rest_s), another steady offset: held against the new one.
+        let (s, mut d) = moving_detector(200, 4);
+        d.suspect = Some((160, tilt));
+        d.moving_tick(&s, bias, v);
+        assert_eq!(d.suspect, Some((160, [2052 << 16, 2048 << 16, 2048 << 16])));
+        // Settled, and the offset moved on: a slow stroke, not a tilt.
+        let (s, mut d) = moving_detector(300, 4);
+        d.suspect = Some((160, tilt));
+        d.moving_tick(&s, bias, v);
+        assert_eq!(d.suspect, None);
+        // Settled at the same offset for tilt_s (200 ticks): the new zero.
+        let (s, mut d) = moving_detector(359, 2);
+        d.suspect = Some((160, tilt));
+        assert_eq!(d.moving_tick(&s, bias, v), Action::None);
+        let (s, mut d) = moving_detector(360, 2);
+        d.suspect = Some((160, tilt));
+        assert_eq!(
+            d.moving_tick(&s, bias, v),
+            Action::Rebias {
+                bias: tilt,
+                discard: true
+            }
+        );
+        // Not steady any more: the suspicion is dropped.
+        let (s, mut d) = moving_detector(200, 2);
+        d.suspect = Some((160, tilt));
+        d.codes[(199 % RING as u64) as usize][0] += 15 * 40;
+        d.moving_tick(&s, bias, v);
+        assert_eq!(d.suspect, None);
+    }
+
+    #[test]
+    fn a_lifted_device_lands_once_steady_for_rest_s() {
+        // Lifted since tick 100: at 159 not yet; at 160 steady at the bias (a stop) or at an
+        // offset (a new zero, the motion kept).
+        let bias = [2048 << 16; 3];
+        let lifted = |ticks: u64, dx: u32| {
+            let (s, mut d) = moving_detector(ticks, dx);
+            d.state = State::Lifted;
+            let a = d.lifted_tick(&s, bias);
+            (a, d.state)
+        };
+        assert_eq!(lifted(159, 0), (Action::None, State::Lifted));
+        assert_eq!(lifted(160, 0), (Action::Stop, State::Still));
+        assert_eq!(
+            lifted(160, 2),
+            (
+                Action::Rebias {
+                    bias: [2050 << 16, 2048 << 16, 2048 << 16],
+                    discard: false
+                },
+                State::Still
+            )
+        );
+    }
+
     #[test]
     fn ticks_scale_with_the_rate_and_windows_stay_in_time() {
         assert_eq!(tick_samples(100), 1);

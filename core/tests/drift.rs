@@ -520,6 +520,7 @@ fn moving(drift: Drift, samples: usize) -> Tracker {
     let mut t = tracker(Some(drift));
     run(&mut t, samples, |_| [2078, 2048, 2048]);
     assert_eq!(t.drift_state(), Some(DriftState::Moving));
+    assert!(!t.is_still());
     t
 }
 
@@ -545,6 +546,12 @@ fn a_click_discards_a_held_motion_and_stops_a_delivered_one() {
     assert_eq!(t.counters().discarded, 0, "a delivered motion only stops");
     assert_eq!(t.drift_state(), Some(DriftState::Frozen));
     assert_eq!(t.axes()[0].integrator().velocity(), 0);
+    run(&mut t, 30, |_| [2048; 3]);
+    assert_eq!(
+        t.counters().frozen_samples,
+        30,
+        "the freeze counts what it skipped"
+    );
 }
 
 #[test]
