@@ -92,7 +92,8 @@ impl<K: InputPin, L: OutputPin> Housekeeping<K, L> {
             Some(ButtonEvent::LongPress) => tracker.lock(Tracker::recalibrate),
             None => {}
         }
-        let (link, wake_ok) = mouse.lock(|m| (m.reports().link(), m.remote_wakeup_enabled()));
+        let (link, wake_ok) =
+            mouse.lock(|m| (m.reports().link(), m.device().remote_wakeup_enabled()));
         let pressed = self.debouncer.is_pressed();
         let power = status.lock(|s| s.power(now_ms, link, wake_ok, pressed));
         if power == PowerAction::Resume {

@@ -168,9 +168,10 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
         self.reports.set_buttons(held);
     }
 
-    /// Whether the host has allowed remote wake-up (SET_FEATURE DEVICE_REMOTE_WAKEUP).
-    pub fn remote_wakeup_enabled(&self) -> bool {
-        self.dev.remote_wakeup_enabled()
+    /// The USB device, read-only: its state, and whether the host has allowed remote
+    /// wake-up (`remote_wakeup_enabled`, set by SET_FEATURE DEVICE_REMOTE_WAKEUP).
+    pub fn device(&self) -> &UsbDevice<'a, B> {
+        &self.dev
     }
 
     /// What the mouse owes the host, and the link as of the last [`Self::service`].

@@ -242,5 +242,5 @@ fn the_mouse_services_its_reports_with_its_devices_state() {
     assert!(!mouse.reports().pending());
     mouse.set_buttons(imu_core::hid::buttons::RIGHT);
     assert!(mouse.reports().pending());
-    assert!(!mouse.remote_wakeup_enabled());
+    assert!(!mouse.device().remote_wakeup_enabled());
 }
