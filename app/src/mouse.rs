@@ -18,9 +18,7 @@ use usb_device::{
     prelude::BuilderError,
     UsbError,
 };
-use usbd_hid::hid_class::{
-    HIDClass, HidClassSettings, HidProtocol, HidSubClass, ProtocolModeConfig,
-};
+use usbd_hid::hid_class::{HIDClass, HidClassSettings, HidProtocol, ProtocolModeConfig};
 
 use crate::identity;
 
@@ -29,8 +27,9 @@ static DESCRIPTOR: [u8; MOUSE_REPORT_DESCRIPTOR.len()] = MOUSE_REPORT_DESCRIPTOR
 
 /// The HID class exactly as the device builds it (the class tests build it the same way).
 pub fn hid_class<B: UsbBus>(bus: &UsbBusAllocator<B>) -> HIDClass<'_, B> {
+    // The subclass stays usbd-hid's default, NoSubClass (a Boot subclass would refuse
+    // report-protocol pushes); the class tests check it in the interface descriptor.
     let settings = HidClassSettings {
-        subclass: HidSubClass::NoSubClass,
         protocol: HidProtocol::Mouse,
         config: ProtocolModeConfig::ForceReport,
         ..HidClassSettings::default()
