@@ -55,12 +55,12 @@ pub const MAX_COUNTS_PER_REPORT: i32 = 127;
 
 /// Button bits of a report.
 pub mod buttons {
-    /// Left button (button 1).
-    pub const LEFT: u8 = 1 << 0;
-    /// Right button (button 2).
-    pub const RIGHT: u8 = 1 << 1;
-    /// Middle button (button 3).
-    pub const MIDDLE: u8 = 1 << 2;
+    /// Left button (button 1): bit 0.
+    pub const LEFT: u8 = 0b001;
+    /// Right button (button 2): bit 1.
+    pub const RIGHT: u8 = 0b010;
+    /// Middle button (button 3): bit 2.
+    pub const MIDDLE: u8 = 0b100;
     /// All buttons the descriptor declares: bits 0 to 2.
     pub const ALL: u8 = 0b111;
 }
