@@ -1353,6 +1353,14 @@ mod tests {
         d.cusum[0][0][1] = 9 << 16;
         d.onset[0][0][1] = 5;
         assert_eq!(d.still_tick(&s, bias), Action::Start { ticks: 5 });
+        // An onset older than the replay ring: REPLAY - 1 ticks are replayed, no more.
+        let (s, mut d) = cusum_detector(3);
+        d.ticks = 200;
+        d.entered = 200;
+        d.codes[199 % RING] = d.codes[9];
+        d.cusum[0][0][0] = 9 << 16;
+        d.onset[0][0][0] = 50;
+        assert_eq!(d.still_tick(&s, bias), Action::Start { ticks: REPLAY - 1 });
     }
 
     #[test]
@@ -1518,6 +1526,14 @@ mod tests {
             let want = if stop { Action::Stop } else { Action::None };
             assert_eq!(d.moving_tick(&s, bias, [50_000_000, 0, 0]), want, "{run}");
         }
+        // The calm window is the time since the motion began (10 ticks here), not rest_s:
+        // older ticks off the bias do not keep a fresh motion from coasting to a stop.
+        let (s, mut d) = moving_detector(110, 2);
+        for t in 100..110 {
+            d.codes[t % RING] = [15 * 2048; 3];
+        }
+        d.moving_tick(&s, bias, [50_000_000, 0, 0]);
+        assert_eq!(d.quiet_run, 1);
         // Younger than its hold, it was a jolt: discarded.
         let (s, mut d) = moving_detector(110, 0);
         d.hold_left = 1;
@@ -1546,7 +1562,17 @@ mod tests {
         d.suspect = Some((160, tilt));
         d.moving_tick(&s, bias, v);
         assert_eq!(d.suspect, Some((160, [2052 << 16, 2048 << 16, 2048 << 16])));
-        // Settled, and the offset moved on: a slow stroke, not a tilt.
+        // 90 ticks after the suspicion it is still settling (2 rest_s = 120 ticks).
+        let (s, mut d) = moving_detector(250, 4);
+        d.suspect = Some((160, tilt));
+        d.moving_tick(&s, bias, v);
+        assert_eq!(d.suspect, Some((160, [2052 << 16, 2048 << 16, 2048 << 16])));
+        // Settled (2 rest_s = 120 ticks after the suspicion, exactly), and the offset moved
+        // on: a slow stroke, not a tilt.
+        let (s, mut d) = moving_detector(280, 4);
+        d.suspect = Some((160, tilt));
+        d.moving_tick(&s, bias, v);
+        assert_eq!(d.suspect, None);
         let (s, mut d) = moving_detector(300, 4);
         d.suspect = Some((160, tilt));
         d.moving_tick(&s, bias, v);
