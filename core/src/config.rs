@@ -43,7 +43,8 @@ pub struct Config {
     /// Acceleration per ADC LSB [m/s^2], finite and `> 0` (an ADXL335 at 300 mV/g on a 12-bit
     /// ratiometric ADC: `9.80665 * 10 / 4096 = 0.023942`).
     pub m_s2_per_lsb: f64,
-    /// ADC resolution [bits], `1..=16`. Codes `0` and `2^bits - 1` are the rails: a
+    /// ADC resolution [bits], `2..=16` (at 1 bit both codes are rails, and no calibration
+    /// could ever succeed). Codes `0` and `2^bits - 1` are the rails: a
     /// calibration window that touches them is rejected as clipped.
     pub adc_bits: u8,
     /// Mouse resolution [counts per inch], `>= 1`.
@@ -94,7 +95,7 @@ pub enum ConfigError {
     LowpassCutoff,
     /// `m_s2_per_lsb` not finite or not `> 0`.
     Scale,
-    /// `adc_bits` outside `1..=16`.
+    /// `adc_bits` outside `2..=16`.
     AdcBits {
         /// The rejected resolution [bits].
         adc_bits: u8,
@@ -126,7 +127,7 @@ impl fmt::Display for ConfigError {
             }
             Self::Scale => f.write_str("m_s2_per_lsb: the scale must be finite and > 0"),
             Self::AdcBits { adc_bits } => {
-                write!(f, "adc_bits = {adc_bits}: the ADC resolution must be 1..=16 bits")
+                write!(f, "adc_bits = {adc_bits}: the ADC resolution must be 2..=16 bits (at 1 bit every code is a rail)")
             }
             Self::CountsPerInch { counts_per_inch } => write!(
                 f,
@@ -161,7 +162,7 @@ impl Config {
         if !(self.m_s2_per_lsb.is_finite() && self.m_s2_per_lsb > 0.0) {
             return Err(ConfigError::Scale);
         }
-        if !(1..=16).contains(&self.adc_bits) {
+        if !(2..=16).contains(&self.adc_bits) {
             return Err(ConfigError::AdcBits {
                 adc_bits: self.adc_bits,
             });

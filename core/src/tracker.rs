@@ -116,12 +116,16 @@ impl Tracker {
         })
     }
 
-    /// Applies a new configuration and recalibrates.
+    /// Applies a new configuration and recalibrates. The axes start afresh: their read-out
+    /// remainders are in units of the old configuration's shift (kept, they would turn into
+    /// phantom counts of a still device), and the filter and bias are recalibrated anyway. At
+    /// most a fraction of a count not yet sent is dropped.
     ///
     /// # Errors
     /// The first invalid field of `config`; the tracker is then left exactly as it was.
     pub fn reconfigure(&mut self, config: &Config) -> Result<(), ConfigError> {
         self.settings = config.validate()?;
+        self.axes = [Axis::default(); AXES];
         self.recalibrate();
         Ok(())
     }

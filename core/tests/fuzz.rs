@@ -80,7 +80,7 @@ fn broken(rng: &mut Rng, good: &Config) -> Config {
         1 => c.fs_hz = 100_001 + rng.below(1_000_000) as u32,
         2 => c.lowpass_fc_hz = Some(f64::from(c.fs_hz) * (0.5 + rng.unit())),
         3 => c.m_s2_per_lsb = [0.0, -1.0, f64::NAN, f64::INFINITY][rng.below(4) as usize],
-        4 => c.adc_bits = [0, 17, 255][rng.below(3) as usize],
+        4 => c.adc_bits = [0, 1, 17, 255][rng.below(4) as usize],
         5 => c.counts_per_inch = 0,
         _ => c.calibration_s = [0.0, -1.0, f64::NAN, 1e9][rng.below(4) as usize],
     }

@@ -63,7 +63,14 @@ fn each_bad_field_is_named() {
             ConfigError::Scale,
         );
     }
-    for b in [0, 17] {
+    // At 1 bit every code is a rail: no calibration could succeed. 2 bits is the least.
+    assert!(Config {
+        adc_bits: 2,
+        ..cfg()
+    }
+    .validate()
+    .is_ok());
+    for b in [0, 1, 17] {
         rejects(
             Config {
                 adc_bits: b,
@@ -361,4 +368,42 @@ fn readout_ratio_at_the_top_of_its_range_is_refused() {
             counts_per_inch: u32::MAX
         })
     );
+}
+
+#[test]
+fn a_new_configuration_leaves_no_phantom_counts() {
+    // The read-out's remainder at 800 cpi is in units of its shift; kept across the change to
+    // 12 800 cpi and read with the new shift, it came out of a still device as 6 phantom
+    // counts. The axes now start afresh.
+    let mut t = Tracker::new(&Config {
+        drift: None,
+        ..cfg()
+    })
+    .expect("valid");
+    t.feed(&[[2048, 2048, 2048]; 3000]);
+    assert_eq!(t.phase(), Phase::Tracking);
+    // A short push, drained at 1 kHz, leaves a remainder in the read-out.
+    for i in 0..300 {
+        t.feed(&[[if i < 150 { 2051 } else { 2045 }, 2048, 2048]]);
+        if i % 3 == 2 {
+            t.take_counts();
+        }
+    }
+    t.reconfigure(&Config {
+        counts_per_inch: 12_800,
+        drift: None,
+        ..cfg()
+    })
+    .expect("valid");
+    let mut moved = [0i64; 3];
+    for i in 0..6000 {
+        t.feed(&[[2048, 2048, 2048]]);
+        if i % 3 == 2 {
+            for (m, c) in moved.iter_mut().zip(t.take_counts()) {
+                *m += i64::from(c);
+            }
+        }
+    }
+    assert_eq!(t.phase(), Phase::Tracking);
+    assert_eq!(moved, [0, 0, 0], "a still device after the change");
 }
