@@ -1,10 +1,9 @@
 //! `cargo lab allan`: the overlapping Allan deviation of a recording, the noise figures read
-//! from it, and their chart (the statistics are [`crate::stats::allan`]).
+//! from it, and their chart (the statistics are `crate::stats::allan`).
 
 use crate::formats::plot;
-use crate::stats::allan;
 
-use super::{Error, Outcome, COLORS};
+use super::{Outcome, COLORS};
 
 /// One example, for `cargo lab` alone.
 pub const EXAMPLE: &str = "cargo lab allan host-tests/data/mpu6050-static-100hz.csv --columns ax,ay,az --scale 0.000598550415039";
@@ -30,15 +29,7 @@ pub struct Args {
 pub fn run(a: &Args) -> Outcome {
     let d = a.rec.read()?;
     let file = &a.rec.file;
-    if d.m_s2[0].len() < 4 {
-        return Err(Error::file(
-            file,
-            format!(
-                "{} samples; the Allan deviation needs at least 4",
-                d.m_s2[0].len()
-            ),
-        ));
-    }
+    let results = a.rec.allan(&d)?;
     let mut axes = serde_json::Map::new();
     let mut text = format!(
         "{}: {} samples at {} Hz (from {}); {}\n",
@@ -58,10 +49,7 @@ pub fn run(a: &Args) -> Outcome {
         y_label: "Allan deviation [m/s^2]".into(),
         ..Default::default()
     };
-    for (k, (name, y)) in d.names.iter().zip(&d.m_s2).enumerate() {
-        let a = allan::oadev(y, d.fs);
-        let f = allan::figures(&a)
-            .ok_or_else(|| Error::file(file, "too few taus for the noise figures"))?;
+    for (k, (name, (a, f))) in d.names.iter().zip(results).enumerate() {
         text += &format!(
             "{name}: N_v (VRW) {:.4e} m/s/sqrt(s) = {:.4e} m/s/sqrt(h); ND (one-sided) {:.4e} m/s^2/sqrt(Hz) = {:.0} ug/sqrt(Hz); bias instability {:.4e} m/s^2 = {:.1} ug at tau {} s\n",
             f.vrw_m_s_rts,

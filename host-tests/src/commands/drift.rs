@@ -207,7 +207,6 @@ pub struct Args {
 pub fn run(a: &Args) -> super::Outcome {
     use super::{positive, Error, COLORS};
     use crate::formats::plot;
-    use crate::stats::allan;
     let Some(scale) = a.rec.scale else {
         return Err(Error::arg(
             "scale",
@@ -220,12 +219,7 @@ pub fn run(a: &Args) -> super::Outcome {
         positive("t", t)?;
     }
     let d = a.rec.read()?;
-    let figs = d
-        .m_s2
-        .iter()
-        .map(|y| allan::figures(&allan::oadev(y, d.fs)))
-        .collect::<Option<Vec<_>>>()
-        .ok_or_else(|| Error::file(&a.rec.file, "too few taus for the noise figures"))?;
+    let figs: Vec<_> = a.rec.allan(&d)?.into_iter().map(|(_, f)| f).collect();
     let rows = experiment(&d.names, &d.raw, d.fs, scale, a.calibrate_s, &a.t, &figs)
         .map_err(Error::Input)?;
     let mut p = plot::Plot {

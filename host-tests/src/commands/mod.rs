@@ -221,4 +221,32 @@ impl Recording {
         )
         .map_err(|e| Error::file(&self.file, e))
     }
+
+    /// The overlapping Allan deviation of each column of `d` (read from this recording) and
+    /// the noise figures read from it, as `allan` shows them and `drift` predicts from them.
+    ///
+    /// # Errors
+    /// Fewer than 4 samples, or too few taus for the figures.
+    pub fn allan(
+        &self,
+        d: &crate::formats::columns::Data,
+    ) -> Result<Vec<(crate::stats::allan::Adev, crate::stats::allan::Figures)>, Error> {
+        use crate::stats::allan;
+        let n = d.m_s2.first().map_or(0, Vec::len);
+        if n < 4 {
+            return Err(Error::file(
+                &self.file,
+                format!("{n} samples; the Allan deviation needs at least 4"),
+            ));
+        }
+        d.m_s2
+            .iter()
+            .map(|y| {
+                let a = allan::oadev(y, d.fs);
+                let f = allan::figures(&a)
+                    .ok_or_else(|| Error::file(&self.file, "too few taus for the noise figures"))?;
+                Ok((a, f))
+            })
+            .collect()
+    }
 }
