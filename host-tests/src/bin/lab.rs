@@ -91,15 +91,13 @@ fn emit(text: &str) -> std::io::Result<()> {
 }
 
 fn main() -> ExitCode {
-    let mut help = Cli::command().after_help(examples());
-    let listing = help.render_help().to_string();
-    let matches = help.get_matches();
-    let cli = match Cli::from_arg_matches(&matches) {
+    let help = || Cli::command().after_help(examples());
+    let cli = match Cli::from_arg_matches(&help().get_matches()) {
         Ok(cli) => cli,
         Err(e) => e.exit(),
     };
     let (text, failure) = match cli.command.as_ref().map(run) {
-        None => (listing, None),
+        None => (help().render_help().to_string(), None),
         Some(Ok(text)) => (text, None),
         Some(Err(Error::Check { report, why })) => (report, Some((why, 1))),
         Some(Err(e)) => (String::new(), Some((e.to_string(), e.exit_code()))),

@@ -26,12 +26,12 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::stats::{spread, Spread};
-use crate::world::desk::Sensor;
+use crate::world::desk::{Sensor, FS};
 use crate::world::noise::{self, SimRng};
 use crate::world::scene::min_jerk_accel;
 
-const FS: f64 = 3000.0;
-const CPI: f64 = 800.0;
+use super::CPI;
+
 const G: f64 = 9.806_65;
 /// The ADXL335's noise density [m/s^2/sqrt(Hz)].
 pub const ND: f64 = 300e-6 * G;
