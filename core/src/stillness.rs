@@ -208,9 +208,10 @@ pub enum DriftError {
     RestFactor,
     /// `tilt_s` outside `rest_s..=10`.
     Tilt,
-    /// `lift_m_s2` not finite and `> 0` (or above 2^15 LSB), or `lift_xy_ratio` outside
-    /// `0..=10`.
+    /// `lift_m_s2` not finite and `> 0` (or above 2^15 LSB).
     Lift,
+    /// `lift_xy_ratio` outside `0..=10`.
+    LiftRatio,
     /// `bias_tau_s` below `rest_s` or not below 1e6 s.
     BiasTau,
     /// `click_freeze_s` outside `0..=2`.
@@ -230,9 +231,8 @@ impl fmt::Display for DriftError {
             Self::RestWindow => "drift.rest_s: the rest window must hold 4..=64 ticks of 5 ms",
             Self::RestFactor => "drift.rest_factor: must be within 1..=1000",
             Self::Tilt => "drift.tilt_s: must be within rest_s..=10 s",
-            Self::Lift => {
-                "drift.lift_m_s2 / lift_xy_ratio: need a finite threshold > 0 and a ratio in 0..=10"
-            }
+            Self::Lift => "drift.lift_m_s2: must be finite, > 0 and below 2^15 ADC LSB",
+            Self::LiftRatio => "drift.lift_xy_ratio: must be within 0..=10",
             Self::BiasTau => "drift.bias_tau_s: must be finite, at least rest_s and below 1e6 s",
             Self::ClickFreeze => "drift.click_freeze_s: must be within 0..=2 s",
         })
@@ -314,7 +314,7 @@ impl Drift {
             Some(_) => return Err(DriftError::Lift),
         };
         if !within(self.lift_xy_ratio, 0.0, 10.0) {
-            return Err(DriftError::Lift);
+            return Err(DriftError::LiftRatio);
         }
         let bias_samples_max = match self.bias_tau_s {
             None => None,
@@ -1099,7 +1099,7 @@ mod tests {
                 lift_xy_ratio: 11.0,
                 ..d
             }),
-            Err(DriftError::Lift)
+            Err(DriftError::LiftRatio)
         );
         assert_eq!(
             v(Drift {

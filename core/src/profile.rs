@@ -1,0 +1,551 @@
+//! The device's settable configuration: the tracker's [`Config`] plus the axis mapping, as
+//! named keys with one `f64` value each, validated as a whole.
+//!
+//! # Design
+//! A user changes settings by name (`counts_per_inch=1600`), over USB and in flash, so the
+//! configuration is a table of [`Key`]s, each with a stable one-byte id (the wire and the
+//! stored record use it; a key is never renumbered), a name, and one `f64` value: integers
+//! are carried exactly, an optional value that is off is NaN ("off" to a user). A value
+//! that does not fit its key (a fraction for an integer, out of the integer's range, a sign
+//! other than +-1) is refused at [`Profile::set`] with [`ProfileError::Value`]; a profile
+//! whose values fit but do not make a working tracker is refused by [`Profile::validate`]
+//! with the key that is wrong ([`ProfileError::Invalid`]), from [`Config::validate`]'s error.
+//!
+//! Drift control's parameters are kept while drift control is off, so turning it on again
+//! restores them.
+//!
+//! The axis mapping says which sensor axis (ADC scan order 0 = X, 1 = Y, 2 = Z) moves the
+//! cursor right and which moves it up (away from the user), each with a sign; the third axis
+//! is the vertical one, which drift control's lift detection watches. [`AxisMap::route`]
+//! puts a sample triple into that order (cursor X, cursor Y, vertical) before the tracker,
+//! and [`AxisMap::screen`] applies the signs to the tracker's counts.
+//!
+//! The stored record ([`Profile::encode`]) is a format byte, a key count and `(id, value)`
+//! pairs. A record from another firmware version decodes as far as it can: unknown ids are
+//! skipped, missing keys keep their defaults, and the result is validated again.
+
+use core::fmt;
+
+use crate::config::{Config, ConfigError};
+use crate::integrator::Scheme;
+use crate::stillness::{Drift, DriftError};
+
+/// Which sensor axis drives the cursor, and in which sense.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct AxisMap {
+    /// Sensor axis (0 = X, 1 = Y, 2 = Z) that moves the cursor right.
+    pub x_axis: u8,
+    /// Whether that axis's positive direction moves the cursor left instead.
+    pub x_flip: bool,
+    /// Sensor axis that moves the cursor up (the hand moving away from the user).
+    pub y_axis: u8,
+    /// Whether that axis's positive direction moves the cursor down instead.
+    pub y_flip: bool,
+}
+
+impl Default for AxisMap {
+    /// The board as wired: sensor X right, sensor Y away (cursor up), Z vertical.
+    fn default() -> Self {
+        Self {
+            x_axis: 0,
+            x_flip: false,
+            y_axis: 1,
+            y_flip: false,
+        }
+    }
+}
+
+impl AxisMap {
+    /// The vertical axis: the one neither cursor axis uses (for a valid map).
+    pub const fn vertical(&self) -> u8 {
+        3 - self.x_axis - self.y_axis
+    }
+
+    /// Whether both axes are in `0..=2` and differ.
+    pub const fn is_valid(&self) -> bool {
+        self.x_axis < 3 && self.y_axis < 3 && self.x_axis != self.y_axis
+    }
+
+    /// A sample triple in sensor order `[x, y, z]` put into the tracker's order `[cursor x,
+    /// cursor y, vertical]`. Valid maps only (indices are taken modulo 3).
+    #[inline]
+    pub fn route(&self, codes: [u16; 3]) -> [u16; 3] {
+        let v = self.vertical();
+        [
+            codes[usize::from(self.x_axis % 3)],
+            codes[usize::from(self.y_axis % 3)],
+            codes[usize::from(v % 3)],
+        ]
+    }
+
+    /// The tracker's counts `[cursor x, cursor y, vertical]` with the flips applied, in the
+    /// tracker's convention (positive y is away from the user); `imu_core::hid::screen_motion`
+    /// turns that into screen motion.
+    pub fn screen(&self, counts: [i32; 3]) -> [i32; 3] {
+        let flip = |c: i32, f: bool| if f { c.saturating_neg() } else { c };
+        [
+            flip(counts[0], self.x_flip),
+            flip(counts[1], self.y_flip),
+            counts[2],
+        ]
+    }
+}
+
+/// Everything the device lets a user set: the tracker's configuration, drift control's
+/// parameters (kept while it is off) and the axis mapping.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Profile {
+    /// The tracker's configuration; `config.drift` is `Some(self.drift)` when drift control
+    /// is on, `None` when off.
+    pub config: Config,
+    /// Drift control's parameters, kept while it is off.
+    pub drift: Drift,
+    /// Which sensor axis drives the cursor.
+    pub map: AxisMap,
+}
+
+impl Default for Profile {
+    /// The core's default configuration with the board's axis mapping.
+    fn default() -> Self {
+        Self::new(Config::default())
+    }
+}
+
+/// How a key's value is carried.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// An integer in `min..=max` (carried exactly in the `f64`).
+    Integer {
+        /// Smallest value the key's type holds.
+        min: u32,
+        /// Largest value the key's type holds.
+        max: u32,
+    },
+    /// Any `f64` (the tracker's validation decides).
+    Real,
+    /// An `f64`, or NaN for "off".
+    Optional,
+    /// 0 or 1 (off, on).
+    Flag,
+    /// +1 or -1.
+    Sign,
+}
+
+macro_rules! keys {
+    ($( $(#[$doc:meta])* $variant:ident = $id:literal, $name:literal, $kind:expr; )*) => {
+        /// A settable value of the [`Profile`]. The id (the enum's value) is stable: it is on
+        /// the wire and in flash.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        #[repr(u8)]
+        pub enum Key {
+            $( $(#[$doc])* $variant = $id, )*
+        }
+
+        impl Key {
+            /// Every key, in the order `config get` lists them.
+            pub const ALL: [Key; [$($id),*].len()] = [$(Key::$variant),*];
+
+            /// The key with wire id `id`, if there is one.
+            pub const fn from_id(id: u8) -> Option<Key> {
+                match id {
+                    $( $id => Some(Key::$variant), )*
+                    _ => None,
+                }
+            }
+
+            /// The key's name, as a user writes it (`counts_per_inch`).
+            pub const fn name(self) -> &'static str {
+                match self {
+                    $( Key::$variant => $name, )*
+                }
+            }
+
+            /// How the key's value is carried.
+            pub const fn kind(self) -> Kind {
+                match self {
+                    $( Key::$variant => $kind, )*
+                }
+            }
+        }
+    };
+}
+
+const U32: Kind = Kind::Integer {
+    min: 0,
+    max: u32::MAX,
+};
+
+keys! {
+    /// Sampling rate [Hz] (`Config::fs_hz`).
+    FsHz = 1, "fs_hz", U32;
+    /// Digital low-pass cut-off [Hz], off = no filter.
+    LowpassFcHz = 2, "lowpass_fc_hz", Kind::Optional;
+    /// Acceleration per ADC code [m/s^2].
+    MS2PerLsb = 3, "m_s2_per_lsb", Kind::Real;
+    /// ADC resolution [bits].
+    AdcBits = 4, "adc_bits", Kind::Integer { min: 0, max: 255 };
+    /// Mouse resolution [counts per inch].
+    CountsPerInch = 5, "counts_per_inch", U32;
+    /// Integration scheme: 0 Euler, 1 trapezoid.
+    Scheme = 6, "scheme", Kind::Integer { min: 0, max: 1 };
+    /// Calibration window [s].
+    CalibrationS = 7, "calibration_s", Kind::Real;
+    /// Largest rms noise accepted as at rest [m/s^2].
+    RestNoiseMaxMS2 = 8, "rest_noise_max_m_s2", Kind::Real;
+    /// Drift control on (1) or off (0).
+    Drift = 9, "drift", Kind::Flag;
+    /// Drift control: CUSUM alarm threshold [sd].
+    StartSigmas = 10, "drift.start_sigmas", Kind::Real;
+    /// Drift control: hold of young motion [s].
+    HoldS = 11, "drift.hold_s", Kind::Real;
+    /// Drift control: stop-test window [s].
+    QuietS = 12, "drift.quiet_s", Kind::Real;
+    /// Drift control: stop-test bound [sd].
+    QuietSigmas = 13, "drift.quiet_sigmas", Kind::Real;
+    /// Drift control: zero-velocity band [sd].
+    VelocitySigmas = 14, "drift.velocity_sigmas", Kind::Real;
+    /// Drift control: zero-velocity fraction of the peak.
+    StopFraction = 15, "drift.stop_fraction", Kind::Real;
+    /// Drift control: quiet time that stops any motion [s].
+    CoastS = 16, "drift.coast_s", Kind::Real;
+    /// Drift control: steadiness window [s].
+    RestS = 17, "drift.rest_s", Kind::Real;
+    /// Drift control: steadiness scatter factor.
+    RestFactor = 18, "drift.rest_factor", Kind::Real;
+    /// Drift control: tilt confirmation time [s].
+    TiltS = 19, "drift.tilt_s", Kind::Real;
+    /// Drift control: lift threshold [m/s^2], off = no lift detection.
+    LiftMS2 = 20, "drift.lift_m_s2", Kind::Optional;
+    /// Drift control: lift threshold per unit of horizontal offset.
+    LiftXyRatio = 21, "drift.lift_xy_ratio", Kind::Real;
+    /// Drift control: bias tracking time constant [s], off = none.
+    BiasTauS = 22, "drift.bias_tau_s", Kind::Optional;
+    /// Drift control: motion suppressed after a click [s].
+    ClickFreezeS = 23, "drift.click_freeze_s", Kind::Real;
+    /// Sensor axis that moves the cursor right (0 X, 1 Y, 2 Z).
+    XAxis = 30, "x_axis", Kind::Integer { min: 0, max: 2 };
+    /// +1, or -1 if that axis's positive direction moves the cursor left.
+    XSign = 31, "x_sign", Kind::Sign;
+    /// Sensor axis that moves the cursor up (0 X, 1 Y, 2 Z).
+    YAxis = 32, "y_axis", Kind::Integer { min: 0, max: 2 };
+    /// +1, or -1 if that axis's positive direction moves the cursor down.
+    YSign = 33, "y_sign", Kind::Sign;
+}
+
+impl Key {
+    /// The key called `name`, if there is one.
+    pub fn from_name(name: &str) -> Option<Key> {
+        Key::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// The key a [`ConfigError`] names.
+    pub const fn of_error(e: ConfigError) -> Key {
+        match e {
+            ConfigError::SampleRate { .. } => Key::FsHz,
+            ConfigError::LowpassCutoff => Key::LowpassFcHz,
+            ConfigError::Scale => Key::MS2PerLsb,
+            ConfigError::AdcBits { .. } => Key::AdcBits,
+            ConfigError::CountsPerInch { .. } => Key::CountsPerInch,
+            ConfigError::CalibrationWindow => Key::CalibrationS,
+            ConfigError::RestNoise => Key::RestNoiseMaxMS2,
+            ConfigError::Drift(d) => match d {
+                DriftError::StartSigmas => Key::StartSigmas,
+                DriftError::Hold => Key::HoldS,
+                DriftError::QuietWindow => Key::QuietS,
+                DriftError::QuietSigmas => Key::QuietSigmas,
+                DriftError::VelocitySigmas => Key::VelocitySigmas,
+                DriftError::StopFraction => Key::StopFraction,
+                DriftError::Coast => Key::CoastS,
+                DriftError::RestWindow => Key::RestS,
+                DriftError::RestFactor => Key::RestFactor,
+                DriftError::Tilt => Key::TiltS,
+                DriftError::Lift => Key::LiftMS2,
+                DriftError::LiftRatio => Key::LiftXyRatio,
+                DriftError::BiasTau => Key::BiasTauS,
+                DriftError::ClickFreeze => Key::ClickFreezeS,
+            },
+        }
+    }
+}
+
+impl fmt::Display for Key {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Why a value or a profile was refused.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ProfileError {
+    /// The value does not fit the key's kind (a fraction or out of range for an integer, not
+    /// 0 or 1 for a flag, not +-1 for a sign).
+    Value(Key),
+    /// Both cursor axes are the same sensor axis.
+    SameAxis,
+    /// The configuration does not validate ([`Config::validate`]).
+    Invalid(ConfigError),
+}
+
+impl ProfileError {
+    /// The key the error names.
+    pub const fn key(&self) -> Key {
+        match *self {
+            Self::Value(k) => k,
+            Self::SameAxis => Key::YAxis,
+            Self::Invalid(e) => Key::of_error(e),
+        }
+    }
+}
+
+impl fmt::Display for ProfileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Value(k) => match k.kind() {
+                Kind::Integer { min, max } => write!(f, "{k}: must be an integer in {min}..={max}"),
+                Kind::Flag => write!(f, "{k}: must be 0 (off) or 1 (on)"),
+                Kind::Sign => write!(f, "{k}: must be 1 or -1"),
+                Kind::Real | Kind::Optional => write!(f, "{k}: not a valid number"),
+            },
+            Self::SameAxis => f.write_str("y_axis: must differ from x_axis"),
+            Self::Invalid(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// Format byte of the stored record ([`Profile::encode`]).
+pub const RECORD_FORMAT: u8 = 1;
+/// Length of a stored record with every key [bytes]: format, count, 9 bytes per key.
+pub const RECORD_LEN: usize = 2 + 9 * Key::ALL.len();
+
+/// Why a stored record could not be read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum RecordError {
+    /// Shorter than its header or its pairs say.
+    Truncated,
+    /// A format this firmware does not read.
+    Format(u8),
+}
+
+fn opt(v: Option<f64>) -> f64 {
+    v.unwrap_or(f64::NAN)
+}
+
+fn from_opt(v: f64) -> Option<f64> {
+    (!v.is_nan()).then_some(v)
+}
+
+impl Profile {
+    /// A profile with `config` (its drift parameters, or the defaults if it has none) and
+    /// the board's axis mapping.
+    pub fn new(config: Config) -> Self {
+        Self {
+            config,
+            drift: config.drift.unwrap_or_default(),
+            map: AxisMap::default(),
+        }
+    }
+
+    /// The value of `key` (NaN for an optional value that is off).
+    pub fn get(&self, key: Key) -> f64 {
+        let (c, d, m) = (&self.config, &self.drift, &self.map);
+        let sign = |flip: bool| if flip { -1.0 } else { 1.0 };
+        match key {
+            Key::FsHz => f64::from(c.fs_hz),
+            Key::LowpassFcHz => opt(c.lowpass_fc_hz),
+            Key::MS2PerLsb => c.m_s2_per_lsb,
+            Key::AdcBits => f64::from(c.adc_bits),
+            Key::CountsPerInch => f64::from(c.counts_per_inch),
+            Key::Scheme => match c.scheme {
+                Scheme::Euler => 0.0,
+                Scheme::Trapezoid => 1.0,
+            },
+            Key::CalibrationS => c.calibration_s,
+            Key::RestNoiseMaxMS2 => c.rest_noise_max_m_s2,
+            Key::Drift => f64::from(u8::from(c.drift.is_some())),
+            Key::StartSigmas => d.start_sigmas,
+            Key::HoldS => d.hold_s,
+            Key::QuietS => d.quiet_s,
+            Key::QuietSigmas => d.quiet_sigmas,
+            Key::VelocitySigmas => d.velocity_sigmas,
+            Key::StopFraction => d.stop_fraction,
+            Key::CoastS => d.coast_s,
+            Key::RestS => d.rest_s,
+            Key::RestFactor => d.rest_factor,
+            Key::TiltS => d.tilt_s,
+            Key::LiftMS2 => opt(d.lift_m_s2),
+            Key::LiftXyRatio => d.lift_xy_ratio,
+            Key::BiasTauS => opt(d.bias_tau_s),
+            Key::ClickFreezeS => d.click_freeze_s,
+            Key::XAxis => f64::from(m.x_axis),
+            Key::XSign => sign(m.x_flip),
+            Key::YAxis => f64::from(m.y_axis),
+            Key::YSign => sign(m.y_flip),
+        }
+    }
+
+    /// Sets `key` to `value`. Only the value's kind is checked here; [`Self::validate`]
+    /// checks the whole.
+    ///
+    /// # Errors
+    /// [`ProfileError::Value`] if `value` does not fit the key's [`Kind`]; nothing changes.
+    pub fn set(&mut self, key: Key, value: f64) -> Result<(), ProfileError> {
+        let bad = ProfileError::Value(key);
+        let int = |v: f64| -> Result<u32, ProfileError> {
+            let Kind::Integer { min, max } = key.kind() else {
+                return Err(bad);
+            };
+            // In range first (NaN fails), then whole: the cast truncates exactly in range.
+            if v >= f64::from(min) && v <= f64::from(max) && f64::from(v as u32) == v {
+                Ok(v as u32)
+            } else {
+                Err(bad)
+            }
+        };
+        let flip = |v: f64| match v {
+            1.0 => Ok(false),
+            -1.0 => Ok(true),
+            _ => Err(bad),
+        };
+        let real = |v: f64| if v.is_nan() { Err(bad) } else { Ok(v) };
+        let (c, d, m) = (&mut self.config, &mut self.drift, &mut self.map);
+        match key {
+            Key::FsHz => c.fs_hz = int(value)?,
+            Key::LowpassFcHz => c.lowpass_fc_hz = from_opt(value),
+            Key::MS2PerLsb => c.m_s2_per_lsb = real(value)?,
+            Key::AdcBits => c.adc_bits = int(value)? as u8,
+            Key::CountsPerInch => c.counts_per_inch = int(value)?,
+            Key::Scheme => {
+                c.scheme = if int(value)? == 0 {
+                    Scheme::Euler
+                } else {
+                    Scheme::Trapezoid
+                }
+            }
+            Key::CalibrationS => c.calibration_s = real(value)?,
+            Key::RestNoiseMaxMS2 => c.rest_noise_max_m_s2 = real(value)?,
+            Key::Drift => match value {
+                0.0 => c.drift = None,
+                1.0 => c.drift = Some(*d),
+                _ => return Err(bad),
+            },
+            Key::StartSigmas => d.start_sigmas = real(value)?,
+            Key::HoldS => d.hold_s = real(value)?,
+            Key::QuietS => d.quiet_s = real(value)?,
+            Key::QuietSigmas => d.quiet_sigmas = real(value)?,
+            Key::VelocitySigmas => d.velocity_sigmas = real(value)?,
+            Key::StopFraction => d.stop_fraction = real(value)?,
+            Key::CoastS => d.coast_s = real(value)?,
+            Key::RestS => d.rest_s = real(value)?,
+            Key::RestFactor => d.rest_factor = real(value)?,
+            Key::TiltS => d.tilt_s = real(value)?,
+            Key::LiftMS2 => d.lift_m_s2 = from_opt(value),
+            Key::LiftXyRatio => d.lift_xy_ratio = real(value)?,
+            Key::BiasTauS => d.bias_tau_s = from_opt(value),
+            Key::ClickFreezeS => d.click_freeze_s = real(value)?,
+            Key::XAxis => m.x_axis = int(value)? as u8,
+            Key::XSign => m.x_flip = flip(value)?,
+            Key::YAxis => m.y_axis = int(value)? as u8,
+            Key::YSign => m.y_flip = flip(value)?,
+        }
+        if c.drift.is_some() {
+            c.drift = Some(*d);
+        }
+        Ok(())
+    }
+
+    /// Checks the whole profile: the axis mapping and the tracker's configuration.
+    ///
+    /// # Errors
+    /// [`ProfileError::SameAxis`], or [`ProfileError::Invalid`] with the first invalid field
+    /// of the configuration.
+    pub fn validate(&self) -> Result<(), ProfileError> {
+        if !self.map.is_valid() {
+            return Err(ProfileError::SameAxis);
+        }
+        self.config
+            .validate()
+            .map(|_| ())
+            .map_err(ProfileError::Invalid)
+    }
+
+    /// The stored record: [`RECORD_FORMAT`], the key count, then `(id, value as f64 LE)`
+    /// for every key. Returns the length written ([`RECORD_LEN`]).
+    pub fn encode(&self, out: &mut [u8; RECORD_LEN]) -> usize {
+        out[0] = RECORD_FORMAT;
+        out[1] = Key::ALL.len() as u8;
+        for (pair, key) in out[2..].chunks_exact_mut(9).zip(Key::ALL) {
+            pair[0] = key as u8;
+            pair[1..].copy_from_slice(&self.get(key).to_le_bytes());
+        }
+        RECORD_LEN
+    }
+
+    /// A stored record read back onto the defaults: unknown ids and values that do not fit
+    /// their key are skipped (the default stays), missing keys keep the default. The result
+    /// is not validated: call [`Self::validate`].
+    ///
+    /// # Errors
+    /// [`RecordError`] if the record is shorter than it says or of another format.
+    pub fn decode(record: &[u8]) -> Result<Self, RecordError> {
+        let [format, count, pairs @ ..] = record else {
+            return Err(RecordError::Truncated);
+        };
+        if *format != RECORD_FORMAT {
+            return Err(RecordError::Format(*format));
+        }
+        let pairs = pairs
+            .get(..usize::from(*count) * 9)
+            .ok_or(RecordError::Truncated)?;
+        let mut p = Profile::default();
+        let mut drift_on = p.config.drift.is_some();
+        for pair in pairs.chunks_exact(9) {
+            let mut v = [0; 8];
+            v.copy_from_slice(&pair[1..]);
+            let value = f64::from_le_bytes(v);
+            match Key::from_id(pair[0]) {
+                // Applied last, so that drift parameters stored after it are kept.
+                Some(Key::Drift) => drift_on = value == 1.0,
+                Some(key) => {
+                    let _ = p.set(key, value);
+                }
+                None => {}
+            }
+        }
+        p.config.drift = drift_on.then_some(p.drift);
+        Ok(p)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_unique_and_round_trip() {
+        for (i, k) in Key::ALL.iter().enumerate() {
+            assert_eq!(Key::from_id(*k as u8), Some(*k));
+            assert_eq!(Key::from_name(k.name()), Some(*k));
+            assert!(Key::ALL[..i].iter().all(|o| *o as u8 != *k as u8));
+        }
+        assert_eq!(Key::from_id(0), None);
+        assert_eq!(Key::from_name("fs"), None);
+    }
+
+    #[test]
+    fn map_routes_and_flips() {
+        let m = AxisMap {
+            x_axis: 1,
+            x_flip: true,
+            y_axis: 2,
+            y_flip: false,
+        };
+        assert_eq!(m.vertical(), 0);
+        assert_eq!(m.route([10, 20, 30]), [20, 30, 10]);
+        assert_eq!(m.screen([5, -6, 7]), [-5, -6, 7]);
+        assert_eq!(AxisMap::default().route([1, 2, 3]), [1, 2, 3]);
+    }
+}
