@@ -24,6 +24,7 @@ pub mod identity;
 pub mod mouse;
 pub mod sampling;
 pub mod status;
+pub mod store;
 
 pub use housekeeping::{Housekeeping, Tick, Timing};
 pub use mouse::Mouse;
