@@ -375,7 +375,7 @@ impl<'a> Reader<'a> {
         }
     }
     fn pairs(&mut self) -> Result<Vec<(Key, f64), PAIRS_MAX>, FrameError> {
-        if self.0.len() % 9 != 0 || self.0.len() / 9 > PAIRS_MAX {
+        if !self.0.len().is_multiple_of(9) || self.0.len() / 9 > PAIRS_MAX {
             return Err(FrameError::Payload);
         }
         let mut out = Vec::new();
