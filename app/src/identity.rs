@@ -23,3 +23,21 @@ pub const POLL_MS: u8 = 1;
 /// single samples with the first after the suspend; ADXL335 noise per sample is about
 /// 0.03 m/s^2, a hand moving a mouse exceeds 0.5 m/s^2, and a tilt of 3 degrees gives it).
 pub const WAKE_MOTION_M_S2: f64 = 0.5;
+
+const fn digits(s: &str) -> u8 {
+    let b = s.as_bytes();
+    let (mut i, mut v) = (0, 0u8);
+    while i < b.len() {
+        v = v * 10 + (b[i] - b'0');
+        i += 1;
+    }
+    v
+}
+
+/// Firmware version `[major, minor, patch]`: this crate's version, as the configuration
+/// interface's `info` reports it.
+pub const FIRMWARE_VERSION: [u8; 3] = [
+    digits(env!("CARGO_PKG_VERSION_MAJOR")),
+    digits(env!("CARGO_PKG_VERSION_MINOR")),
+    digits(env!("CARGO_PKG_VERSION_PATCH")),
+];

@@ -11,13 +11,19 @@
 //! |---|---|
 //! | [`device`] | accepted rates, block length, tracker configuration, timing |
 //! | [`identity`] | who the device is on USB |
-//! | [`mouse`] | USB device, HID class, report push |
+//! | [`mouse`] | USB device: the HID mouse and the configuration interface |
+//! | [`commands`] | configuration requests: responses and what the device must do |
+//! | [`control`] | a request from the bus through [`commands`] to the tracker and stream |
+//! | [`stream`] | raw ADC codes queued and cut into stream frames |
+//! | [`store`] | the profile in flash (sequential-storage) |
 //! | [`sampling`] | a DMA block into the tracker (or the suspend probe) |
 //! | [`housekeeping`] | KEY, power, LED, log schedule every 1 ms |
 //! | [`status`] | calibration outcome, suspend state, LED choice |
 #![no_std]
 #![forbid(unsafe_code)]
 
+pub mod commands;
+pub mod control;
 pub mod device;
 pub mod housekeeping;
 pub mod identity;
@@ -25,6 +31,7 @@ pub mod mouse;
 pub mod sampling;
 pub mod status;
 pub mod store;
+pub mod stream;
 
 pub use housekeeping::{Housekeeping, Tick, Timing};
 pub use mouse::Mouse;

@@ -1,5 +1,6 @@
-//! The USB HID mouse: device and class set-up over any `usb_device` bus, and one service
-//! routine that polls the stack and pushes the next report.
+//! The USB device: the HID mouse and, beside it, the vendor HID configuration interface
+//! (`imu_core::protocol`), set up over any `usb_device` bus, and one service routine that
+//! polls the stack, pushes the next mouse report and moves configuration frames.
 //!
 //! # Design
 //! The report descriptor and the report bytes come from `imu_core::hid`, shared with the
@@ -9,8 +10,15 @@
 //! (the host has not read the last one yet) loses nothing. While the device is not
 //! configured (reset, suspended, unplugged) motion is discarded rather than delivered late
 //! as a jump, and every change of the link makes the reporter send the buttons again.
+//!
+//! The configuration interface is a second interface with its own IN and OUT endpoints, so
+//! the mouse interface stays a plain mouse. One received request waits in an inbox until the
+//! caller takes it; responses wait in a two-frame outbox and go out before any stream frame.
+//! A change of the link empties both (the host that asked is gone).
 
+use heapless::Deque;
 use imu_core::hid::{Reporter, MOUSE_REPORT_DESCRIPTOR};
+use imu_core::protocol::{Frame, CONFIG_REPORT_DESCRIPTOR, FRAME_LEN};
 use imu_core::Link;
 use usb_device::{
     bus::{UsbBus, UsbBusAllocator},
@@ -21,9 +29,18 @@ use usb_device::{
 use usbd_hid::hid_class::{HIDClass, HidClassSettings, HidProtocol, ProtocolModeConfig};
 
 use crate::identity;
+use crate::stream::Stream;
 
 /// The HID report descriptor, in static memory as the class requires.
 static DESCRIPTOR: [u8; MOUSE_REPORT_DESCRIPTOR.len()] = MOUSE_REPORT_DESCRIPTOR;
+/// The configuration interface's report descriptor.
+static CONFIG_DESCRIPTOR: [u8; CONFIG_REPORT_DESCRIPTOR.len()] = CONFIG_REPORT_DESCRIPTOR;
+
+/// The configuration interface exactly as the device builds it: a vendor HID interface with
+/// an interrupt IN and an interrupt OUT endpoint of 64 bytes, polled every 1 ms.
+pub fn config_class<B: UsbBus>(bus: &UsbBusAllocator<B>) -> HIDClass<'_, B> {
+    HIDClass::new(bus, &CONFIG_DESCRIPTOR, identity::POLL_MS)
+}
 
 /// The HID class exactly as the device builds it (the class tests build it the same way).
 pub fn hid_class<B: UsbBus>(bus: &UsbBusAllocator<B>) -> HIDClass<'_, B> {
@@ -131,11 +148,18 @@ impl Reports {
     }
 }
 
-/// The mouse: USB device, HID class, and what it owes the host ([`Reports`]).
+/// Responses waiting for the configuration interface's IN endpoint.
+pub const OUTBOX: usize = 2;
+
+/// The mouse: USB device, HID class, and what it owes the host ([`Reports`]); and the
+/// configuration interface with its inbox and outbox.
 pub struct Mouse<'a, B: UsbBus> {
     dev: UsbDevice<'a, B>,
     hid: HIDClass<'a, B>,
+    port: HIDClass<'a, B>,
     reports: Reports,
+    inbox: Option<(Frame, usize)>,
+    outbox: Deque<Frame, OUTBOX>,
 }
 
 impl<'a, B: UsbBus> Mouse<'a, B> {
@@ -145,21 +169,73 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
     /// The builder's error if the strings do not fit (they are constants in [`identity`]).
     pub fn new(bus: &'a UsbBusAllocator<B>) -> Result<Self, BuilderError> {
         let hid = hid_class(bus);
+        let port = config_class(bus);
         let dev = usb_device(bus)?;
         Ok(Self {
             dev,
             hid,
+            port,
             reports: Reports::default(),
+            inbox: None,
+            outbox: Deque::new(),
         })
     }
 
     /// Polls the USB stack, adds the tracker's fresh `counts` `[x, y, z]` and pushes the next
-    /// pending report, if any ([`Reports::update`]).
+    /// pending report, if any ([`Reports::update`]); takes a configuration request into the
+    /// inbox if it is empty, and pushes the next response.
     pub fn service(&mut self, counts: [i32; 3]) {
-        self.dev.poll(&mut [&mut self.hid]);
+        self.dev.poll(&mut [&mut self.hid, &mut self.port]);
+        let link = self.reports.link();
         let hid = &mut self.hid;
         self.reports
             .update(self.dev.state(), counts, |bytes| hid.push_raw_input(bytes));
+        if self.reports.link() != link {
+            self.inbox = None;
+            self.outbox.clear();
+        }
+        if self.inbox.is_none() {
+            let mut frame = [0; FRAME_LEN];
+            if let Ok(n) = self.port.pull_raw_output(&mut frame) {
+                self.inbox = Some((frame, n));
+            }
+        }
+        if let Some(frame) = self.outbox.front() {
+            if self.port.push_raw_input(frame).is_ok() {
+                self.outbox.pop_front();
+            }
+        }
+    }
+
+    /// The configuration request received, if any, and its length [bytes]; the next one is
+    /// read from the bus once this is taken.
+    pub fn take_request(&mut self) -> Option<(Frame, usize)> {
+        self.inbox.take()
+    }
+
+    /// Queues a response for the configuration interface, ahead of stream frames. Returns
+    /// `false` (the response is dropped) if [`OUTBOX`] responses already wait, which a host
+    /// that waits for each answer never causes.
+    pub fn respond(&mut self, frame: Frame) -> bool {
+        let queued = self.outbox.push_back(frame).is_ok();
+        if let Some(f) = self.outbox.front() {
+            if self.port.push_raw_input(f).is_ok() {
+                self.outbox.pop_front();
+            }
+        }
+        queued
+    }
+
+    /// Pushes the raw stream's next frame if no response waits and the endpoint is free.
+    pub fn push_stream(&mut self, stream: &mut Stream) {
+        if !self.outbox.is_empty() || self.reports.link() != Link::Configured {
+            return;
+        }
+        if let Some(frame) = stream.frame() {
+            if self.port.push_raw_input(&frame.encode()).is_ok() {
+                stream.sent(&frame);
+            }
+        }
     }
 
     /// Sets the held buttons (`imu_core::hid::buttons` bits); sent with the next report.

@@ -12,10 +12,16 @@
 //! right-aligned conversion never produces; the DMA fills buffers in order, so a buffer that
 //! comes back with it is one the DMA never wrote (a race of the buffer swap) and is dropped.
 
+use imu_core::profile::AxisMap;
 use imu_core::{Delivery, Event, Tracker};
 use rtic_core::Mutex;
 
+use crate::device::{block_len, FS_MAX_HZ};
 use crate::status::Status;
+use crate::stream::Stream;
+
+/// The longest block the device produces [triples]: 1 ms at [`FS_MAX_HZ`].
+pub const BLOCK_MAX: usize = block_len(FS_MAX_HZ);
 
 /// The marker in the last word of a buffer the DMA has not filled yet (no 12-bit code).
 pub const UNFILLED: u16 = u16::MAX;
@@ -33,14 +39,17 @@ pub fn filled(buffer: &[u16]) -> bool {
 }
 
 /// A block of `[x, y, z]` codes arrived with the ledger's `delivery` at `now_ms` [ms]: a
-/// probe while suspended, else lost samples (if late) and the block go to the tracker.
-/// Returns the calibration outcome if a calibration window ended.
+/// probe while suspended, else lost samples (if late) and the block go to the stream (as
+/// sampled) and to the tracker (routed by `map`). Returns the calibration outcome if a
+/// calibration window ended.
 pub fn on_block(
     block: &[[u16; 3]],
     delivery: Delivery,
     now_ms: u32,
+    map: AxisMap,
     tracker: &mut impl Mutex<T = Tracker>,
     status: &mut impl Mutex<T = Status>,
+    stream: &mut impl Mutex<T = Stream>,
 ) -> Option<Event> {
     if status.lock(|s| {
         if let (true, Some(&last)) = (s.suspended(), block.last()) {
@@ -50,11 +59,24 @@ pub fn on_block(
     }) {
         return None;
     }
+    let lost = match delivery {
+        Delivery::Late(lost) => lost,
+        Delivery::OnTime => 0,
+    };
+    stream.lock(|s| s.push(block, lost));
     let event = tracker.lock(|t| {
         if let Delivery::Late(lost) = delivery {
             t.lost(lost);
         }
-        t.feed(block)
+        let mut event = None;
+        let mut routed = [[0u16; 3]; BLOCK_MAX];
+        for piece in block.chunks(BLOCK_MAX) {
+            for (r, c) in routed.iter_mut().zip(piece) {
+                *r = map.route(*c);
+            }
+            event = t.feed(&routed[..piece.len()]).or(event);
+        }
+        event
     });
     if let Some(e) = event {
         status.lock(|s| s.record(e, now_ms));

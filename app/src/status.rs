@@ -2,7 +2,8 @@
 //! machine, and the LED pattern chosen from them.
 
 use imu_core::{
-    CalibrationError, Event, Indicator, LastCalibration, Link, Phase, Power, PowerAction, Tracker,
+    Calibration, CalibrationError, Event, Indicator, LastCalibration, Link, Phase, Power,
+    PowerAction, Tracker,
 };
 
 /// The device's status, shared by the sample path (calibration outcomes, suspend probe) and
@@ -10,6 +11,7 @@ use imu_core::{
 #[derive(Clone, Copy, Debug)]
 pub struct Status {
     last: Option<(Event, u32)>,
+    calibrated: Option<[Calibration; 3]>,
     power: Power,
 }
 
@@ -19,6 +21,7 @@ impl Status {
     pub const fn new(wake_motion_lsb: u16) -> Self {
         Self {
             last: None,
+            calibrated: None,
             power: Power::new(wake_motion_lsb),
         }
     }
@@ -26,6 +29,14 @@ impl Status {
     /// A calibration window ended with `event` at `now_ms` [ms].
     pub fn record(&mut self, event: Event, now_ms: u32) {
         self.last = Some((event, now_ms));
+        if let Event::Calibrated(c) = event {
+            self.calibrated = Some(c);
+        }
+    }
+
+    /// The last successful calibration, if any.
+    pub const fn calibration(&self) -> Option<[Calibration; 3]> {
+        self.calibrated
     }
 
     /// Whether the device is suspended (its blocks are motion probes, not tracking data).

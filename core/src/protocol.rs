@@ -43,6 +43,25 @@ pub const STREAM_TRIPLES_WIDE: usize = 9;
 /// One frame's bytes.
 pub type Frame = [u8; FRAME_LEN];
 
+/// The configuration interface's HID report descriptor (27 bytes): vendor usage page
+/// 0xFF00 (no driver claims it on any OS), one 64-byte input report and one 64-byte output
+/// report, no report IDs.
+pub const CONFIG_REPORT_DESCRIPTOR: [u8; 27] = [
+    0x06, 0x00, 0xFF, // Usage Page (Vendor Defined 0xFF00)
+    0x09, 0x01, // Usage (0x01)
+    0xA1, 0x01, // Collection (Application)
+    0x09, 0x02, //   Usage (0x02): device to host
+    0x15, 0x00, //   Logical Minimum (0)
+    0x26, 0xFF, 0x00, //   Logical Maximum (255)
+    0x75, 0x08, //   Report Size (8)
+    0x95, 0x40, //   Report Count (64)
+    0x81, 0x02, //   Input (Data, Variable, Absolute)
+    0x09, 0x03, //   Usage (0x03): host to device
+    0x95, 0x40, //   Report Count (64)
+    0x91, 0x02, //   Output (Data, Variable, Absolute)
+    0xC0, // End Collection
+];
+
 /// Frame codes (byte 1).
 pub mod code {
     /// Identity, firmware version, where the running configuration came from.
