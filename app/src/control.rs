@@ -11,11 +11,12 @@
 
 use imu_core::profile::AxisMap;
 use imu_core::protocol::{Request, Response};
-use imu_core::{ConfigError, Tracker};
+use imu_core::Tracker;
 use rtic_core::Mutex;
 use usb_device::bus::UsbBus;
 
 use crate::commands::{Commands, Effect, View};
+use crate::device::wake_motion_lsb;
 use crate::mouse::Mouse;
 use crate::status::Status;
 use crate::stream::Stream;
@@ -41,21 +42,48 @@ pub fn view(
     }
 }
 
+/// The resources a request may read or change.
+pub struct Resources<'r, M, C, T, S, R, Q> {
+    /// The USB device.
+    pub mouse: &'r mut M,
+    /// The configuration interface's state.
+    pub commands: &'r mut C,
+    /// The tracker.
+    pub tracker: &'r mut T,
+    /// The calibration outcome and suspend state.
+    pub status: &'r mut S,
+    /// The axis mapping of the sample path.
+    pub route: &'r mut R,
+    /// The raw stream.
+    pub stream: &'r mut Q,
+}
+
 /// Takes the waiting request, if any, decides it and queues its response (a save answers
-/// later, through [`answer_save`]). Returns what the caller must carry out
-/// ([`carry_out`], then the retime and the save).
-pub fn serve<'a, B: UsbBus + 'a>(
-    mouse: &mut impl Mutex<T = Mouse<'a, B>>,
-    commands: &mut impl Mutex<T = Commands>,
-    view: impl FnOnce() -> View,
-) -> Effect {
-    let Some((frame, len)) = mouse.lock(Mouse::take_request) else {
+/// later, through [`answer_save`]), and carries out what needs no board ([`carry_out`]).
+/// `restarts` gives the board's sampling restarts for the counters. Returns the effect, of
+/// which the caller still owes the retime and the save.
+pub fn serve<'a, 'r, B, M, C, T, S, R, Q>(
+    r: &mut Resources<'r, M, C, T, S, R, Q>,
+    restarts: impl FnOnce() -> u32,
+) -> Effect
+where
+    B: UsbBus + 'a,
+    M: Mutex<T = Mouse<'a, B>>,
+    C: Mutex<T = Commands>,
+    T: Mutex<T = Tracker>,
+    S: Mutex<T = Status>,
+    R: Mutex<T = AxisMap>,
+    Q: Mutex<T = Stream>,
+{
+    let Some((frame, len)) = r.mouse.lock(Mouse::take_request) else {
         return Effect::default();
     };
+    let mouse = &mut *r.mouse;
     let (tag, reply) = match Request::decode(&frame[..len]) {
         Ok((tag, req)) => {
-            let v = view();
-            (tag, commands.lock(|c| c.handle(tag, req, &v)))
+            let reports = mouse.lock(|m| m.reports().reporter().reports());
+            let v = view(r.tracker, r.status, r.stream, reports, restarts());
+            (tag, r.commands.lock(|c| c.handle(tag, req, &v)))
         }
         Err(e) => {
             let tag = frame.get(2).copied().unwrap_or(0);
@@ -63,9 +91,10 @@ pub fn serve<'a, B: UsbBus + 'a>(
             return answer(mouse, tag, &response);
         }
     };
-    if let Some(r) = &reply.response {
-        answer(mouse, tag, r);
+    if let Some(response) = &reply.response {
+        answer(mouse, tag, response);
     }
+    carry_out(&reply.effect, r);
     reply.effect
 }
 
@@ -79,35 +108,49 @@ fn answer<'a, B: UsbBus + 'a>(
     Effect::default()
 }
 
-/// The effect's part that needs no board: the running profile to the tracker and the axis
+/// The effect's part that needs no board: the running profile to the tracker (a new
+/// configuration recalibrates; the wake-up threshold follows the scale) and the axis
 /// mapping, a recalibration, the stream started or stopped.
-///
-/// # Errors
-/// The tracker's refusal of the running configuration (it was validated by
-/// [`Commands`] with the same rules, so this is not expected; nothing changed then).
-pub fn carry_out(
-    effect: &Effect,
-    commands: &mut impl Mutex<T = Commands>,
-    tracker: &mut impl Mutex<T = Tracker>,
-    route: &mut impl Mutex<T = AxisMap>,
-    stream: &mut impl Mutex<T = Stream>,
-) -> Result<(), ConfigError> {
-    let profile = commands.lock(|c| *c.running());
+fn carry_out<'r, M, C, T, S, R, Q>(effect: &Effect, r: &mut Resources<'r, M, C, T, S, R, Q>)
+where
+    C: Mutex<T = Commands>,
+    T: Mutex<T = Tracker>,
+    S: Mutex<T = Status>,
+    R: Mutex<T = AxisMap>,
+    Q: Mutex<T = Stream>,
+{
+    let profile = r.commands.lock(|c| *c.running());
     if effect.apply {
-        tracker.lock(|t| t.reconfigure(&profile.config))?;
-        route.lock(|r| *r = profile.map);
+        // Validated by `Commands` with the tracker's own rules: a refusal cannot happen, and
+        // would leave the tracker as it was.
+        let _ = r.tracker.lock(|t| t.reconfigure(&profile.config));
+        let wake = wake_motion_lsb(profile.config.m_s2_per_lsb);
+        r.status.lock(|s| *s = Status::new(wake));
+        r.route.lock(|m| *m = profile.map);
     }
     if effect.recalibrate {
-        tracker.lock(Tracker::recalibrate);
+        r.tracker.lock(Tracker::recalibrate);
     }
     match effect.stream {
-        Some(true) => stream.lock(|s| s.start(profile.config.adc_bits)),
+        Some(true) => r.stream.lock(|s| s.start(profile.config.adc_bits)),
         Some(false) => {
-            stream.lock(Stream::stop);
+            r.stream.lock(Stream::stop);
         }
         None => {}
     }
-    Ok(())
+}
+
+/// Pushes the raw stream's next frame if the configuration interface is free.
+pub fn push_stream<'a, B: UsbBus + 'a>(
+    mouse: &mut impl Mutex<T = Mouse<'a, B>>,
+    stream: &mut impl Mutex<T = Stream>,
+) {
+    let Some(frame) = stream.lock(|s| s.frame()) else {
+        return;
+    };
+    if mouse.lock(|m| m.push_stream_frame(&frame)) {
+        stream.lock(|s| s.sent(&frame));
+    }
 }
 
 /// The save asked for is done (`ok`) or failed: its response goes out.

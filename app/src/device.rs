@@ -8,9 +8,12 @@
 //! tracker at every accepted rate: a board configuration that would fail at boot fails the
 //! build or the tests instead.
 
+use imu_core::profile::{Key, Profile};
+use imu_core::protocol::Source;
 use imu_core::Config;
 
 use crate::housekeeping::Timing;
+use crate::store::Loaded;
 
 /// Lowest accepted sampling rate [Hz]: one DMA block per sample at 100 Hz.
 pub const FS_MIN_HZ: u32 = 100;
@@ -58,4 +61,18 @@ pub const TIMING: Timing = Timing {
 /// the maximum, never a wake-up on noise).
 pub fn wake_motion_lsb(m_s2_per_lsb: f64) -> u16 {
     ((crate::identity::WAKE_MOTION_M_S2 / m_s2_per_lsb) as u16).max(4)
+}
+
+/// The profile to start with: `loaded` if the device can run its sampling rate with a sample
+/// clock of `clock_hz` [Hz], else the defaults, reported as a stored profile that no longer
+/// validates at `fs_hz` (the core accepts rates the trigger timer cannot make).
+pub fn runnable(loaded: Loaded, clock_hz: u32) -> Loaded {
+    if rate_accepted(loaded.profile.config.fs_hz, clock_hz) {
+        return loaded;
+    }
+    Loaded {
+        profile: Profile::default(),
+        source: Source::Invalid,
+        invalid: Some(Key::FsHz),
+    }
 }

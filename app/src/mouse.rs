@@ -18,7 +18,7 @@
 
 use heapless::Deque;
 use imu_core::hid::{Reporter, MOUSE_REPORT_DESCRIPTOR};
-use imu_core::protocol::{Frame, CONFIG_REPORT_DESCRIPTOR, FRAME_LEN};
+use imu_core::protocol::{Frame, StreamFrame, CONFIG_REPORT_DESCRIPTOR, FRAME_LEN};
 use imu_core::Link;
 use usb_device::{
     bus::{UsbBus, UsbBusAllocator},
@@ -29,7 +29,6 @@ use usb_device::{
 use usbd_hid::hid_class::{HIDClass, HidClassSettings, HidProtocol, ProtocolModeConfig};
 
 use crate::identity;
-use crate::stream::Stream;
 
 /// The HID report descriptor, in static memory as the class requires.
 static DESCRIPTOR: [u8; MOUSE_REPORT_DESCRIPTOR.len()] = MOUSE_REPORT_DESCRIPTOR;
@@ -226,16 +225,12 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
         queued
     }
 
-    /// Pushes the raw stream's next frame if no response waits and the endpoint is free.
-    pub fn push_stream(&mut self, stream: &mut Stream) {
-        if !self.outbox.is_empty() || self.reports.link() != Link::Configured {
-            return;
-        }
-        if let Some(frame) = stream.frame() {
-            if self.port.push_raw_input(&frame.encode()).is_ok() {
-                stream.sent(&frame);
-            }
-        }
+    /// Pushes a raw stream frame if no response waits and the endpoint is free; returns
+    /// whether it went (`Stream::sent` then takes its samples off the queue).
+    pub fn push_stream_frame(&mut self, frame: &StreamFrame) -> bool {
+        self.outbox.is_empty()
+            && self.reports.link() == Link::Configured
+            && self.port.push_raw_input(&frame.encode()).is_ok()
     }
 
     /// Sets the held buttons (`imu_core::hid::buttons` bits); sent with the next report.

@@ -1,5 +1,5 @@
 //! The board: STM32F411CEU6 "Black Pill" with a 25 MHz crystal. Wiring, clocks and the one
-//! rate to change; no decisions (those are in `imu_app` and `imu_core`).
+//! flash layout; no decisions (those are in `imu_app` and `imu_core`).
 //!
 //! # Design
 //! Wiring (ADXL335-class analog accelerometer, ratiometric, powered from 3V3):
@@ -17,11 +17,24 @@
 //! on the F411), APB1 48 MHz (its timers TIM2 and TIM5 at 96 MHz), APB2 96 MHz, ADC
 //! PCLK2 / 4 = 24 MHz (the F411's limit is 36 MHz), and the 48 MHz USB clock from the PLL.
 //! `init` checks the HAL's computed clocks against these constants.
-//! The ADC trigger is TIM2's update event (TRGO) at exactly [`FS_HZ`]: PSC 0 and ARR
-//! computed here in 32 bits, the product checked at compile time. TIM5 runs free at 96 MHz
+//! The ADC trigger is TIM2's update event (TRGO) at exactly the configured rate: PSC 0 and
+//! ARR = `TIMER_HZ / fs - 1`, exact for every accepted rate. TIM5 runs free at 96 MHz
 //! as the sample ledger's time base (it keeps counting while the core sleeps in `wfi`).
+//!
+//! The sampling rate is a setting (`fs_hz`, set over USB and kept in flash; 3 kHz by
+//! default, the rate of the paper's experiments). The device accepts 100 to 20 000 Hz
+//! dividing [`TIMER_HZ`] (`imu_app::device::rate_accepted`); TIM2 counts `TIMER_HZ / fs`
+//! cycles per sample.
+//!
+//! Flash layout (RM0383 table 5: sectors 0-3 of 16 KiB, 4 of 64 KiB, 5-7 of 128 KiB), set
+//! in `memory.x`: sector 0 holds the vector table alone, sectors 1 and 2 the profile store,
+//! the code starts at sector 3 (`_stext`). The store takes the smallest sectors because a
+//! sector erase stalls every flash fetch, so the CPU, for its whole duration, and the erase
+//! time grows with the sector: hundreds of milliseconds for 16 KiB, seconds for 128 KiB
+//! (DS10314's flash characteristics, at the x8 parallelism the HAL uses; not measured here,
+//! no board). An erase happens only when the store moves to its other page, about once in
+//! 60 saves (a record is 254 bytes).
 
-use imu_app::device::{block_len, rate_accepted};
 use stm32f4xx_hal::adc::config::{Clock as AdcClock, SampleTime};
 
 /// Crystal [Hz].
@@ -43,19 +56,14 @@ pub const USB_HZ: u32 = 48_000_000;
 
 const _: () = assert!(ADC_HZ <= 36_000_000, "the F411's ADC clock limit is 36 MHz");
 
-/// Sampling rate of each axis [Hz]. **The one place to change it.** It must be accepted by
-/// `imu_app::device::rate_accepted` (100 to 20 000 Hz, dividing [`TIMER_HZ`]): checked
-/// when this crate builds. 3000 Hz is the rate of the paper's experiments.
-pub const FS_HZ: u32 = 3000;
-
-const _: () = assert!(
-    rate_accepted(FS_HZ, TIMER_HZ),
-    "FS_HZ must lie in 100..=20000 Hz and divide the 96 MHz timer clock"
-);
-
-/// TIM2 auto-reload for [`FS_HZ`] (PSC 0): one update every `TIMER_HZ / FS_HZ` cycles.
-pub const TRIGGER_ARR: u32 = TIMER_HZ / FS_HZ - 1;
-const _: () = assert!((TRIGGER_ARR as u64 + 1) * FS_HZ as u64 == TIMER_HZ as u64);
+/// Start of the profile store [bytes from the flash's start]: sector 1.
+pub const STORE_START: u32 = 0x4000;
+/// End of the profile store [bytes from the flash's start]: sectors 1 and 2.
+pub const STORE_END: u32 = 0xC000;
+/// The store's erase unit [bytes]: one 16 KiB sector.
+pub const STORE_PAGE: u32 = 0x4000;
+/// Sector number of the store's first page.
+pub const STORE_FIRST_SECTOR: u8 = 1;
 
 /// Probe rate while USB is suspended [Hz]: enough to catch a hand moving the mouse (its
 /// accelerations last a tenth of a second and more) for remote wake-up.
@@ -64,21 +72,21 @@ pub const PROBE_HZ: u32 = 50;
 pub const PROBE_ARR: u32 = TIMER_HZ / PROBE_HZ - 1;
 const _: () = assert!((PROBE_ARR as u64 + 1) * PROBE_HZ as u64 == TIMER_HZ as u64);
 
-/// Sample triples per DMA block (`imu_app::device::block_len`): 1 ms of samples, at least 1.
-pub const BLOCK: usize = block_len(FS_HZ);
-/// Length of one DMA buffer [u16]: [`BLOCK`] scans of X, Y, Z.
-pub const BUF_LEN: usize = 3 * BLOCK;
+/// Storage of one DMA buffer [u16]: the longest block (1 ms at 20 kHz) of X, Y, Z scans.
+pub const BUF_MAX: usize = 3 * imu_app::sampling::BLOCK_MAX;
 
 /// ADC sample time per channel: 112 ADC cycles = 4.7 us at 24 MHz, enough to settle through
 /// the ADXL335's 32 kOhm output resistance (its RC filter capacitor also feeds the sample
 /// capacitor). A 3-channel scan takes 3 x (112 + 12) cycles = 15.5 us.
 pub const ADC_SAMPLE_TIME: SampleTime = SampleTime::Cycles_112;
 
-/// Sampling is restarted when no block has arrived for this many sample periods (5 blocks).
-pub const STALL_SAMPLES: u32 = 5 * BLOCK as u32;
+/// Sampling is restarted when no block has arrived for this many block periods.
+pub const STALL_BLOCKS: u32 = 5;
 
-/// Independent watchdog timeout [ms]; fed by the 1 ms housekeeping loop.
-pub const WATCHDOG_MS: u32 = 250;
+/// Independent watchdog timeout [ms]; fed by the 1 ms housekeeping loop. Above the longest
+/// time the CPU cannot run, a save that erases a 16 KiB sector and programs a record (well
+/// under a second by the datasheet), with margin.
+pub const WATCHDOG_MS: u32 = 2000;
 
 /// Remote wake-up signalling time [ms] (USB 2.0: 1 to 15 ms).
 pub const REMOTE_WAKEUP_MS: u32 = 10;

@@ -10,18 +10,23 @@
 //!   multiple of 1 kHz); deadline: before the next block completes, or the block is counted
 //!   late (`Delivery::Late`) or the DMA overruns (a restart). Feeds the tracker, then pends
 //!   the USB task.
-//! - `usb` (2, OTG_FS): polls the USB stack and pushes the next mouse report.
+//! - `usb` (2, OTG_FS): polls the USB stack, pushes the next mouse report, serves the
+//!   configuration interface (a new rate retimes the sampling here) and the raw stream.
 //! - `housekeeping` (1, async, every 1 ms on a running deadline): stall check, KEY, power,
 //!   LED, logs, remote wake-up, watchdog.
+//! - `save` (1, async, spawned by a `save` or `defaults` request): the profile to flash; the
+//!   CPU stalls while the flash programs or erases (the watchdog allows for it).
 //! - `idle`: sleeps in `wfi`.
 //!
-//! Wiring, clocks and the sampling rate: see `board.rs`.
+//! Wiring, clocks and the flash layout: see `board.rs`. The sampling rate and every other
+//! setting come from the profile in flash (`imu_app::store`), or the defaults.
 #![no_std]
 #![no_main]
 
 mod board;
 mod clock;
 mod sampling;
+mod storage;
 mod tasks;
 mod wakeup;
 
@@ -33,8 +38,13 @@ systick_monotonic!(Mono, 1000);
 
 #[rtic::app(device = stm32f4xx_hal::pac, dispatchers = [EXTI1])]
 mod app {
+    use imu_app::commands::Commands;
+    use imu_app::control::{self, Resources};
+    use imu_app::store::Store;
+    use imu_app::stream::Stream;
     use imu_app::{device, sampling::on_block, Housekeeping, Mouse, Status};
-    use imu_core::{PowerAction, SampleLedger, Tracker};
+    use imu_core::profile::AxisMap;
+    use imu_core::{PowerAction, Tracker};
     use rtic_monotonics::Monotonic;
     use stm32f4xx_hal::{
         dma::StreamsTuple,
@@ -48,9 +58,10 @@ mod app {
     use usb_device::bus::UsbBusAllocator;
 
     use super::Mono;
-    use crate::board::{self, BUF_LEN};
+    use crate::board::{self, BUF_MAX};
     use crate::clock::Clock;
     use crate::sampling::{Hardware, Outcome, Pins, Sampler};
+    use crate::storage::StoreFlash;
     use crate::tasks::{self, Snapshot};
     use crate::wakeup::RemoteWakeup;
 
@@ -60,6 +71,9 @@ mod app {
         sampler: Sampler,
         status: Status,
         mouse: Mouse<'static, UsbBusType>,
+        commands: Commands,
+        stream: Stream,
+        route: AxisMap,
     }
 
     #[local]
@@ -67,7 +81,7 @@ mod app {
         housekeeping: Housekeeping<PA0<Input>, PC13<Output>>,
         wakeup: RemoteWakeup,
         watchdog: IndependentWatchdog,
-        m_s2_per_lsb: f32,
+        store: Store<StoreFlash>,
     }
 
     /// The HAL's computed clocks against `board`'s constants: a mismatch stops at boot with
@@ -88,9 +102,9 @@ mod app {
     }
 
     #[init(local = [
-        buf_a: [u16; BUF_LEN] = [0; BUF_LEN],
-        buf_b: [u16; BUF_LEN] = [0; BUF_LEN],
-        buf_c: [u16; BUF_LEN] = [0; BUF_LEN],
+        buf_a: [u16; BUF_MAX] = [0; BUF_MAX],
+        buf_b: [u16; BUF_MAX] = [0; BUF_MAX],
+        buf_c: [u16; BUF_MAX] = [0; BUF_MAX],
         ep_memory: [u32; 1024] = [0; 1024],
         usb_bus: Option<UsbBusAllocator<UsbBusType>> = None,
     ])]
@@ -109,21 +123,19 @@ mod app {
         check_clocks(&rcc.clocks);
         Mono::start(cx.core.SYST, board::SYSCLK_HZ);
 
-        let config = device::tracker_config(board::FS_HZ);
-        // Every accepted rate builds (app/tests/device.rs); these cannot fail here.
+        let Ok(mut store) = Store::new(
+            StoreFlash::new(dp.FLASH),
+            0..board::STORE_END - board::STORE_START,
+        ) else {
+            defmt::panic!("the store must be whole 16 KiB sectors (board.rs)")
+        };
+        let loaded = device::runnable(store.load(), board::TIMER_HZ);
+        let config = loaded.profile.config;
+        // The store validates, `runnable` checks the rate: this cannot fail.
         let Ok(tracker) = Tracker::new(&config) else {
             defmt::panic!("tracker configuration (see app/tests/device.rs)")
         };
-        let Ok(ledger) = SampleLedger::new(board::TIMER_HZ, board::FS_HZ, board::BLOCK as u32)
-        else {
-            defmt::panic!("ledger configuration (see app/tests/device.rs)")
-        };
-        defmt::info!(
-            "imu-mouse: fs {} Hz, {} samples per block, calibrating for {} s: keep still",
-            board::FS_HZ,
-            board::BLOCK,
-            config.calibration_s
-        );
+        tasks::log_start(&loaded);
 
         let gpioa = dp.GPIOA.split(&mut rcc);
         let gpioc = dp.GPIOC.split(&mut rcc);
@@ -161,7 +173,7 @@ mod app {
             stream: streams.0,
             pins,
         };
-        let sampler = Sampler::start(hw, buffers, rcc, clock, ledger);
+        let sampler = Sampler::start(hw, buffers, rcc, clock, config.fs_hz);
         let housekeeping = Housekeeping::new(
             gpioa.pa0.into_pull_up_input(),
             true,
@@ -180,40 +192,78 @@ mod app {
                 sampler,
                 status: Status::new(wake_lsb),
                 mouse,
+                commands: Commands::new(
+                    loaded.profile,
+                    loaded.source,
+                    loaded.invalid,
+                    board::TIMER_HZ,
+                ),
+                stream: Stream::default(),
+                route: loaded.profile.map,
             },
             Local {
                 housekeeping,
                 wakeup: RemoteWakeup::default(),
                 watchdog,
-                m_s2_per_lsb: config.m_s2_per_lsb as f32,
+                store,
             },
         )
     }
 
-    /// A DMA block is full. Deadline: the next block (1 ms at 3 kHz).
-    #[task(binds = DMA2_STREAM0, priority = 3, shared = [sampler, tracker, status], local = [m_s2_per_lsb])]
+    /// A DMA block is full. Deadline: the next block (1 ms at rates of 1 kHz and more).
+    #[task(binds = DMA2_STREAM0, priority = 3, shared = [sampler, tracker, status, stream, route])]
     fn dma(mut cx: dma::Context) {
         let now_ms = Mono::now().ticks();
-        let (mut tracker, mut status) = (cx.shared.tracker, cx.shared.status);
+        let map = cx.shared.route.lock(|r| *r);
+        let (mut tracker, mut status, mut stream) =
+            (cx.shared.tracker, cx.shared.status, cx.shared.stream);
         let mut event = None;
         let outcome = cx.shared.sampler.lock(|s| {
             let outcome = s.on_dma(|block, delivery| {
-                event = on_block(block, delivery, now_ms, &mut tracker, &mut status)
+                let (t, st, q) = (&mut tracker, &mut status, &mut stream);
+                event = on_block(block, delivery, now_ms, map, t, st, q)
             });
             if let Outcome::Restarted(lost) = outcome {
                 tracker.lock(|t| t.restarted(lost)); // under the sampler's lock: in order
+                stream.lock(|q| q.lost(lost));
             }
             outcome
         });
-        tasks::log_outcome(&outcome, event.as_ref(), *cx.local.m_s2_per_lsb);
+        tasks::log_outcome(&outcome, event.as_ref());
         rtic::pend(Interrupt::OTG_FS);
     }
 
     /// The USB peripheral needs service, or the DMA task has fresh motion.
-    #[task(binds = OTG_FS, priority = 2, shared = [tracker, mouse])]
-    fn usb(mut cx: usb::Context) {
-        let counts = cx.shared.tracker.lock(|t| t.take_counts());
-        cx.shared.mouse.lock(|m| m.service(counts));
+    #[task(binds = OTG_FS, priority = 2, shared = [tracker, mouse, commands, status, route, stream, sampler])]
+    fn usb(cx: usb::Context) {
+        let mut s = cx.shared;
+        let (mut mouse, mut stream, mut sampler) = (s.mouse, s.stream, s.sampler);
+        tasks::service_mouse(&mut mouse, &mut s.tracker, &mut s.route);
+        let mut r = Resources {
+            mouse: &mut mouse,
+            commands: &mut s.commands,
+            tracker: &mut s.tracker,
+            status: &mut s.status,
+            route: &mut s.route,
+            stream: &mut stream,
+        };
+        let effect = control::serve(&mut r, || sampler.lock(|s| s.ledger().counters().restarts));
+        tasks::board_effect(&effect, &mut r, &mut sampler, || save::spawn().is_ok());
+        control::push_stream(&mut mouse, &mut stream);
+    }
+
+    /// Keeps the running profile in flash, then answers the request that asked.
+    #[task(priority = 1, shared = [commands, mouse], local = [store])]
+    async fn save(mut cx: save::Context) {
+        let profile = cx.shared.commands.lock(|c| *c.running());
+        let result = cx.local.store.save(&profile);
+        tasks::log_save(&result);
+        control::answer_save(
+            result.is_ok(),
+            &mut cx.shared.commands,
+            &mut cx.shared.mouse,
+        );
+        rtic::pend(Interrupt::OTG_FS);
     }
 
     /// Every millisecond, on a running deadline: stalled sampling, KEY, power, LED, logs,

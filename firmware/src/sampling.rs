@@ -14,7 +14,13 @@
 //!   overrun, or blocks that stop arriving (ADC overrun, or a sampling that never started),
 //!   restart the sampling: ADC reset through the RCC (which clears OVR), reconfigured, the
 //!   DMA stream enabled and only then the ADC, and the samples lost counted from TIM5.
+//! - The rate is set at run time ([`Sampler::retime`]): the three buffers are sized for the
+//!   longest block (1 ms at 20 kHz) and each [`Block`] gives the DMA only the words of one
+//!   block at the running rate; a retime stops TIM2, re-arms the DMA with the new length,
+//!   loads the new ARR and starts a fresh ledger.
 
+use embedded_dma::WriteBuffer;
+use imu_app::device::block_len;
 use imu_app::sampling::{filled, mark_unfilled};
 use imu_core::{Delivery, SampleLedger};
 use stm32f4xx_hal::{
@@ -28,12 +34,54 @@ use stm32f4xx_hal::{
     rcc::{Enable, Rcc, Reset},
 };
 
-use crate::board::{ADC_PRESCALER, ADC_SAMPLE_TIME, BUF_LEN, PROBE_ARR, TRIGGER_ARR};
+use crate::board::{ADC_PRESCALER, ADC_SAMPLE_TIME, BUF_MAX, PROBE_ARR, STALL_BLOCKS, TIMER_HZ};
 use crate::clock::Clock;
 
-/// One DMA buffer: `BLOCK` scans of X, Y, Z codes.
-pub type Buffer = [u16; BUF_LEN];
-type AdcTransfer = Transfer<Stream0<DMA2>, 0, Adc<ADC1>, PeripheralToMemory, &'static mut Buffer>;
+/// The storage of one DMA buffer: the longest block's scans of X, Y, Z codes.
+pub type Buffer = [u16; BUF_MAX];
+
+/// One DMA buffer at the running rate: the first `len` words of its storage.
+pub struct Block {
+    words: &'static mut Buffer,
+    len: usize,
+}
+
+impl Block {
+    /// A block over `words`, `len` words long (clamped to the storage).
+    pub fn new(words: &'static mut Buffer, len: usize) -> Self {
+        Self {
+            words,
+            len: len.min(BUF_MAX),
+        }
+    }
+
+    /// The block's words.
+    pub fn codes(&self) -> &[u16] {
+        &self.words[..self.len]
+    }
+
+    fn codes_mut(&mut self) -> &mut [u16] {
+        &mut self.words[..self.len]
+    }
+
+    fn resize(&mut self, len: usize) {
+        self.len = len.min(BUF_MAX);
+    }
+}
+
+// SAFETY: `words` is an exclusive `'static` borrow, so the memory stays valid and unaliased
+// for as long as the DMA owns the `Block`, and `write_buffer` returns the same pointer and
+// length until a `&mut self` method runs (only `resize`, called on a released buffer).
+// `len <= BUF_MAX` always (`new` and `resize` clamp), so the DMA writes inside `words`.
+#[allow(unsafe_code)]
+unsafe impl WriteBuffer for Block {
+    type Word = u16;
+    unsafe fn write_buffer(&mut self) -> (*mut u16, usize) {
+        (self.words.as_mut_ptr(), self.len)
+    }
+}
+
+type AdcTransfer = Transfer<Stream0<DMA2>, 0, Adc<ADC1>, PeripheralToMemory, Block>;
 
 /// The accelerometer's analog inputs.
 pub struct Pins {
@@ -70,8 +118,11 @@ pub enum Outcome {
 /// The sampling pipeline's hardware and its ledger.
 pub struct Sampler {
     trigger: TIM2,
+    /// TIM2's auto-reload at the running rate, and the block length [triples].
+    arr: u32,
+    block: usize,
     transfer: Option<AdcTransfer>,
-    spare: Option<&'static mut Buffer>,
+    spare: Option<Block>,
     pins: Pins,
     rcc: Rcc,
     clock: Clock,
@@ -108,45 +159,54 @@ fn fresh_adc(adc: &mut Adc<ADC1>, pins: &Pins) {
 
 /// A transfer into `a` and `b` (marked unfilled), the stream enabled before the ADC so that
 /// the first trigger finds the DMA ready.
-fn armed(
-    stream: Stream0<DMA2>,
-    adc: Adc<ADC1>,
-    a: &'static mut Buffer,
-    b: &'static mut Buffer,
-) -> AdcTransfer {
-    mark_unfilled(a);
-    mark_unfilled(b);
+fn armed(stream: Stream0<DMA2>, adc: Adc<ADC1>, mut a: Block, mut b: Block) -> AdcTransfer {
+    mark_unfilled(a.codes_mut());
+    mark_unfilled(b.codes_mut());
     let mut t = Transfer::init_peripheral_to_memory(stream, adc, a, Some(b), dma_config());
     t.start(|adc| adc.enable());
     t
 }
 
+/// The ledger of a rate the device accepts (`imu_app::device::rate_accepted`, checked by
+/// the caller; every accepted rate builds: `app/tests/device.rs`).
+fn ledger(fs_hz: u32) -> SampleLedger {
+    let Ok(ledger) = SampleLedger::new(TIMER_HZ, fs_hz, block_len(fs_hz) as u32) else {
+        defmt::panic!("ledger at {} Hz (see app/tests/device.rs)", fs_hz)
+    };
+    ledger
+}
+
 impl Sampler {
-    /// Sets up ADC1 and DMA2 stream 0, starts the transfer, then TIM2 at the rate of
-    /// `board::TRIGGER_ARR`, whose every update triggers one scan; the ledger's stall check
-    /// runs from here. `buffers` are the two DMA buffers and the spare.
+    /// Sets up ADC1 and DMA2 stream 0, starts the transfer, then TIM2 at `fs_hz` (an
+    /// accepted rate), whose every update triggers one scan; the ledger's stall check runs
+    /// from here. `buffers` are the two DMA buffers and the spare.
     pub fn start(
         hw: Hardware,
         buffers: [&'static mut Buffer; 3],
         mut rcc: Rcc,
         clock: Clock,
-        mut ledger: SampleLedger,
+        fs_hz: u32,
     ) -> Self {
         let mut adc = Adc::new(hw.adc1, true, adc_config(), &mut rcc);
         fresh_adc(&mut adc, &hw.pins);
-        let [a, b, spare] = buffers;
+        let block = block_len(fs_hz);
+        let [a, b, spare] = buffers.map(|w| Block::new(w, 3 * block));
         let transfer = armed(hw.stream, adc, a, b);
         TIM2::enable(&mut rcc);
         TIM2::reset(&mut rcc);
         let tim = hw.tim2;
+        let arr = TIMER_HZ / fs_hz - 1;
         tim.psc().write(|w| w.psc().set(0));
-        tim.arr().write(|w| w.arr().set(TRIGGER_ARR));
+        tim.arr().write(|w| w.arr().set(arr));
         tim.cr2().modify(|_, w| w.mms().update());
         tim.egr().write(|w| w.ug().set_bit());
         tim.cr1().modify(|_, w| w.cen().set_bit());
+        let mut ledger = ledger(fs_hz);
         ledger.start(clock.now());
         Self {
             trigger: tim,
+            arr,
+            block,
             transfer: Some(transfer),
             spare: Some(spare),
             pins: hw.pins,
@@ -156,18 +216,51 @@ impl Sampler {
         }
     }
 
+    /// Runs the sampling at `fs_hz` (an accepted rate) from now: TIM2 stopped, the DMA
+    /// re-armed with blocks of the new length, the new ARR loaded, a fresh ledger, TIM2
+    /// started. The samples of the old rate still in flight are dropped (the tracker
+    /// recalibrates after a new configuration anyway).
+    pub fn retime(&mut self, fs_hz: u32) {
+        self.trigger.cr1().modify(|_, w| w.cen().clear_bit());
+        self.block = block_len(fs_hz);
+        self.arr = TIMER_HZ / fs_hz - 1;
+        let len = 3 * self.block;
+        if let Some(spare) = self.spare.as_mut() {
+            spare.resize(len);
+        }
+        if let Some(transfer) = self.transfer.take() {
+            let (stream, mut adc, mut a, b) = transfer.release();
+            <ADC1 as Reset>::reset(&mut self.rcc);
+            fresh_adc(&mut adc, &self.pins);
+            a.resize(len);
+            if let Some(mut b) = b {
+                b.resize(len);
+                self.transfer = Some(armed(stream, adc, a, b));
+            }
+        }
+        self.ledger = ledger(fs_hz);
+        self.ledger.start(self.clock.now());
+        self.set_rate(self.arr);
+        self.trigger.cr1().modify(|_, w| w.cen().set_bit());
+    }
+
+    /// Restarts the sampling if no block has arrived for [`STALL_BLOCKS`] block periods.
+    pub fn check_stalled(&mut self) -> Outcome {
+        self.check_stall(STALL_BLOCKS * self.block as u32)
+    }
+
     /// Handles the DMA interrupt: a full block goes to `take` as `[x, y, z]` triples with
     /// the ledger's verdict; an unfilled buffer is dropped; a DMA overrun restarts sampling.
     pub fn on_dma(&mut self, take: impl FnOnce(&[[u16; 3]], Delivery)) -> Outcome {
         let now = self.clock.now();
-        let (Some(transfer), Some(spare)) = (self.transfer.as_mut(), self.spare.take()) else {
+        let (Some(transfer), Some(mut spare)) = (self.transfer.as_mut(), self.spare.take()) else {
             return self.restart(now);
         };
-        mark_unfilled(spare);
+        mark_unfilled(spare.codes_mut());
         match transfer.next_transfer(spare) {
-            Ok((full, _)) if filled(full) => {
+            Ok((full, _)) if filled(full.codes()) => {
                 let delivery = self.ledger.block(now);
-                take(full.as_chunks::<3>().0, delivery);
+                take(full.codes().as_chunks::<3>().0, delivery);
                 self.spare = Some(full);
                 Outcome::Block
             }
@@ -189,7 +282,7 @@ impl Sampler {
 
     /// Restarts the sampling if no block has arrived for `max_samples` sample periods (or
     /// none since the start or the last restart).
-    pub fn check_stall(&mut self, max_samples: u32) -> Outcome {
+    fn check_stall(&mut self, max_samples: u32) -> Outcome {
         let now = self.clock.now();
         if self.ledger.stalled(now, max_samples) {
             self.restart(now)
@@ -209,9 +302,9 @@ impl Sampler {
         self.set_rate(PROBE_ARR);
     }
 
-    /// USB resume: TIM2 back at `FS_HZ`; the ledger counts from now.
+    /// USB resume: TIM2 back at the running rate; the ledger counts from now.
     pub fn resume(&mut self) {
-        self.set_rate(TRIGGER_ARR);
+        self.set_rate(self.arr);
         self.ledger.start(self.clock.now());
     }
 

@@ -1,14 +1,81 @@
 //! What the RTIC tasks do beyond `imu_app`: the stall check under one lock with the
-//! tracker, and the logs, in physical units, through defmt. Every decision is made by
+//! tracker, the board's part of a configuration request (retime, save), and the logs
+//! through defmt. Every decision is made by
 //! `imu_app` and `imu_core` (tested on the host).
 
+use imu_app::commands::{Commands, Effect};
+use imu_app::control::Resources;
+use imu_app::store::{Loaded, StoreError};
 use imu_app::Mouse;
+use imu_core::profile::AxisMap;
+use imu_core::protocol::Source;
 use imu_core::{Counters, Event, LedgerCounters, Tracker};
 use rtic::Mutex;
 use stm32f4xx_hal::otg_fs::UsbBusType;
 
-use crate::board;
 use crate::sampling::{Outcome, Sampler};
+
+/// Logs the profile the device starts with and where it came from.
+pub fn log_start(loaded: &Loaded) {
+    let c = &loaded.profile.config;
+    match loaded.source {
+        Source::Stored => defmt::info!("profile: stored"),
+        Source::Defaults => defmt::info!("profile: defaults (none stored)"),
+        Source::Corrupt => defmt::warn!("profile: the store is unreadable; defaults"),
+        Source::Invalid => defmt::warn!(
+            "profile: the stored {} no longer validates; defaults",
+            loaded.invalid.map_or("value", |k| k.name())
+        ),
+        Source::Changed => {}
+    }
+    defmt::info!(
+        "imu-mouse: fs {} Hz, {} counts/inch, calibrating for {} s: keep still",
+        c.fs_hz,
+        c.counts_per_inch,
+        c.calibration_s
+    );
+}
+
+/// Logs a save's outcome.
+pub fn log_save(result: &Result<(), StoreError>) {
+    match result {
+        Ok(()) => defmt::info!("profile saved"),
+        Err(e) => defmt::error!("profile not saved: {}", e),
+    }
+}
+
+/// Polls the USB stack and hands the mouse the tracker's fresh counts in screen order.
+pub fn service_mouse(
+    mouse: &mut impl Mutex<T = Mouse<'static, UsbBusType>>,
+    tracker: &mut impl Mutex<T = Tracker>,
+    route: &mut impl Mutex<T = AxisMap>,
+) {
+    let map = route.lock(|r| *r);
+    let counts = tracker.lock(Tracker::take_counts);
+    mouse.lock(|m| m.service(map.screen(counts)));
+}
+
+/// What only the board does for a request: a new rate retimes the sampling; a save goes to
+/// the `save` task (`spawn`, which saves the running profile), or is answered as failed if
+/// it cannot be spawned.
+pub fn board_effect<'r, M, C, T, S, R, Q>(
+    effect: &Effect,
+    r: &mut Resources<'r, M, C, T, S, R, Q>,
+    sampler: &mut impl Mutex<T = Sampler>,
+    spawn: impl FnOnce() -> bool,
+) where
+    M: Mutex<T = Mouse<'static, UsbBusType>>,
+    C: Mutex<T = Commands>,
+{
+    if effect.retime {
+        let fs_hz = r.commands.lock(|c| c.running().config.fs_hz);
+        sampler.lock(|s| s.retime(fs_hz));
+        defmt::info!("sampling retimed to {} Hz", fs_hz);
+    }
+    if effect.save && !spawn() {
+        imu_app::control::answer_save(false, r.commands, r.mouse);
+    }
+}
 
 /// Restarts a stalled sampling and tells the tracker, under one lock of both (a block cannot
 /// be fed between the restart and its lost samples). Returns whether ADC data arrives.
@@ -17,7 +84,7 @@ pub fn check_stall(
     tracker: &mut impl Mutex<T = Tracker>,
 ) -> bool {
     sampler.lock(|s| {
-        if let Outcome::Restarted(lost) = s.check_stall(board::STALL_SAMPLES) {
+        if let Outcome::Restarted(lost) = s.check_stalled() {
             tracker.lock(|t| t.restarted(lost));
             defmt::warn!("no ADC data: sampling restarted, {} samples lost", lost);
         }
@@ -26,28 +93,26 @@ pub fn check_stall(
 }
 
 /// Logs what a DMA interrupt produced.
-pub fn log_outcome(outcome: &Outcome, event: Option<&Event>, m_s2_per_lsb: f32) {
+pub fn log_outcome(outcome: &Outcome, event: Option<&Event>) {
     if let Outcome::Restarted(lost) = outcome {
         defmt::warn!("DMA overrun: sampling restarted, {} samples lost", lost);
     }
     if let Some(e) = event {
-        log_event(e, m_s2_per_lsb);
+        log_event(e);
     }
 }
 
-/// Logs a calibration outcome in physical units.
-pub fn log_event(event: &Event, m_s2_per_lsb: f32) {
+/// Logs a calibration outcome in ADC codes (the tracker's axes: cursor X, cursor Y,
+/// vertical; `cargo lab device info` shows them in m/s^2).
+pub fn log_event(event: &Event) {
     match event {
         Event::Calibrated(axes) => {
-            for (name, c) in ["x", "y", "z"].iter().zip(axes) {
-                let bias_lsb = c.bias_q16 as f32 / 65_536.0;
-                let rms_lsb = c.noise_rms_q16 as f32 / 65_536.0;
+            for (name, c) in ["x", "y", "vertical"].iter().zip(axes) {
                 defmt::info!(
-                    "calibrated {}: bias {} LSB ({} m/s^2), noise {} m/s^2 rms over {} samples",
+                    "calibrated {}: bias {} LSB, noise {} LSB rms over {} samples",
                     name,
-                    bias_lsb,
-                    bias_lsb * m_s2_per_lsb,
-                    rms_lsb * m_s2_per_lsb,
+                    c.bias_q16 as f32 / 65_536.0,
+                    c.noise_rms_q16 as f32 / 65_536.0,
                     c.samples
                 );
             }

@@ -5,6 +5,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+use crate::device::flash::FileFlash;
 use crate::device::twin;
 use crate::formats::recording;
 use crate::world::desk;
@@ -38,6 +39,10 @@ pub struct Args {
     /// How long to wait for a host to configure the device [s].
     #[arg(long, allow_negative_numbers = true, default_value_t = 60.0)]
     pub wait_host: f64,
+    /// Keep the device's flash (its saved profile) in this file across runs; without it
+    /// the twin starts with an erased flash (the defaults).
+    #[arg(long)]
+    pub flash: Option<std::path::PathBuf>,
     /// Print JSON instead of the table.
     #[arg(long)]
     pub json: bool,
@@ -101,6 +106,10 @@ fn operator_key() -> Arc<AtomicBool> {
 pub fn run(a: &Args) -> Outcome {
     let input = input(a)?;
     positive("wait-host", a.wait_host)?;
+    let flash = match &a.flash {
+        Some(path) => FileFlash::open(path).map_err(|e| Error::file(path, e))?,
+        None => FileFlash::blank(),
+    };
     let operator = operator_key();
     eprintln!(
         "twin: USB/IP device on {} (bus id 1-1); waiting for a host",
@@ -111,20 +120,24 @@ pub fn run(a: &Args) -> Outcome {
         wait_host_s: a.wait_host,
         drain_s: 2.0,
     };
-    let s = twin::run(&input, settings, operator).map_err(|e| Error::Run(e.to_string()))?;
+    let s = twin::run(&input, settings, operator, flash).map_err(|e| Error::Run(e.to_string()))?;
     if a.json {
         return Ok(serde_json::to_string(&s)?);
     }
     Ok(format!(
-        "twin: {:.1} s at {} Hz, {} reports (peak {} per s), {} URBs, {} stalls\n\
+        "twin: {:.1} s at {} Hz ({} at the end; profile: {}), {} reports (peak {} per s), \
+         {} URBs, {} stalls, {} stream frames\n\
          counts (x, y): produced {:?}, sent {:?}, discarded {:?}, owed {:?}; accounted: {}\n\
          late housekeeping ticks: {}",
         s.scene_s,
         s.fs_hz,
+        s.final_fs_hz,
+        s.profile_source,
         s.reports,
         s.peak_report_rate_hz,
         s.urbs,
         s.stalls,
+        s.stream_frames,
         s.produced,
         s.sent,
         s.discarded,

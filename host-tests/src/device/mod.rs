@@ -3,9 +3,15 @@
 //!
 //! - [`track`]: samples through `Tracker` and a 1 ms USB poll through `Reporter`;
 //! - [`trial`]: one axis through the real fixed-point pipeline, the Monte Carlo's unit;
-//! - [`usbip`] and [`twin`]: `imu_app` as a USB/IP device, in real time.
+//! - [`usbip`] and [`twin`]: `imu_app` as a USB/IP device, in real time, with its profile
+//!   in [`flash`];
+//! - [`usbip_host`] and [`client`]: the host's side of the configuration interface, over
+//!   USB/IP (the twin) or `hidapi` (a board).
 
+pub mod client;
+pub mod flash;
 pub mod track;
 pub mod trial;
 pub mod twin;
 pub mod usbip;
+pub mod usbip_host;

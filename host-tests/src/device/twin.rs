@@ -12,6 +12,13 @@
 //! The scene starts when a host has configured the device; after it ends the twin keeps
 //! serving until every count is delivered (or the drain time passes), then reports.
 //!
+//! The configuration interface runs as on the board: requests through
+//! `imu_app::control::serve`, the raw stream through `control::push_stream`, the profile in
+//! a [`FileFlash`] (two 16 KiB sectors, kept in a file if one is given, so a restarted twin
+//! finds what was saved). The twin runs the profile's rate: the scene's codes are played at
+//! `block_len(fs)` per millisecond, whatever rate the scene was made for, and a new rate
+//! changes the block length from the next millisecond (the board retimes its ADC trigger).
+//!
 //! What the twin cannot show: USB electrical behaviour, suspend (USB/IP has none), the
 //! ADC, DMA and timers (the board layer), timing under interrupt load.
 
@@ -21,13 +28,22 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use embedded_hal::digital::{ErrorType, InputPin, OutputPin};
+use imu_app::commands::Commands;
+use imu_app::control::{self, Resources};
+use imu_app::store::Store;
+use imu_app::stream::Stream;
 use imu_app::{device, identity, sampling::on_block, Housekeeping, Mouse, Status};
+use imu_core::protocol::Source;
 use imu_core::{hid::screen_motion, Delivery, Link, Tracker};
 use rtic_core::Exclusive;
 use serde::Serialize;
 use usb_device::bus::UsbBusAllocator;
 
+use crate::device::flash::{FileFlash, CAPACITY};
 use crate::device::usbip::{Listing, Traffic, UsbIpBus};
+
+/// The sample clock the twin's rates must divide [Hz]: the board's timer clock.
+const CLOCK_HZ: u32 = 96_000_000;
 
 /// The device's inputs: ADC codes and the finger on KEY, sample by sample.
 #[derive(Clone, Debug)]
@@ -71,6 +87,9 @@ pub enum TwinError {
     /// No host configured the device in time.
     #[error("no USB/IP host configured the device within {0} s")]
     NoHost(f64),
+    /// The store's range does not fit the flash (a defect of the twin).
+    #[error("store: {0}")]
+    Store(String),
 }
 
 /// What the twin did, for the host-side check.
@@ -78,7 +97,7 @@ pub enum TwinError {
 pub struct Summary {
     /// Sampling rate [Hz].
     pub fs_hz: u32,
-    /// Scene length played [s].
+    /// Scene length played, in the scene's own time [s].
     pub scene_s: f64,
     /// Counts the tracker produced, `[x, y]` on screen (right, down).
     pub produced: [i64; 2],
@@ -104,6 +123,12 @@ pub struct Summary {
     pub late_ticks: u32,
     /// Whether every produced count is sent, discarded or owed.
     pub accounted: bool,
+    /// Where the profile came from at start-up (`Defaults`, `Stored`, `Corrupt`, `Invalid`).
+    pub profile_source: String,
+    /// The sampling rate at the end (a host may have changed it) [Hz].
+    pub final_fs_hz: u32,
+    /// Raw stream frames sent.
+    pub stream_frames: u32,
 }
 
 /// KEY of the twin: the scene's finger, or the operator's.
@@ -152,10 +177,11 @@ fn listing() -> Listing {
     }
 }
 
-/// Polls the USB stack until `deadline`, every 250 us.
-fn serve_until(mouse: &mut Mouse<'_, UsbIpBus>, deadline: Instant) {
+/// Polls the USB stack until `deadline`, every 250 us, and keeps the raw stream moving.
+fn serve_until(mouse: &mut Mouse<'_, UsbIpBus>, deadline: Instant, stream: &mut Stream) {
     loop {
         mouse.service([0; 3]);
+        control::push_stream(&mut Exclusive(&mut *mouse), &mut Exclusive(&mut *stream));
         let now = Instant::now();
         if now >= deadline {
             return;
@@ -164,14 +190,23 @@ fn serve_until(mouse: &mut Mouse<'_, UsbIpBus>, deadline: Instant) {
     }
 }
 
-/// Runs the twin on `input`; `operator` is KEY as pressed from standard input.
+/// Runs the twin on `input` with its profile store on `flash`; `operator` is KEY as pressed
+/// from standard input.
 ///
 /// # Errors
 /// [`TwinError`]: the port, the rate, the device, or no host.
-pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summary, TwinError> {
-    if !device::rate_accepted(input.fs_hz, 96_000_000) {
+pub fn run(
+    input: &Input,
+    s: Settings,
+    operator: Arc<AtomicBool>,
+    flash: FileFlash,
+) -> Result<Summary, TwinError> {
+    if !device::rate_accepted(input.fs_hz, CLOCK_HZ) {
         return Err(TwinError::Rate(input.fs_hz));
     }
+    let mut store =
+        Store::new(flash, 0..CAPACITY as u32).map_err(|e| TwinError::Store(format!("{e:?}")))?;
+    let loaded = device::runnable(store.load(), CLOCK_HZ);
     let bus = UsbIpBus::new(s.addr, listing()).map_err(|source| TwinError::Listen {
         addr: s.addr,
         source,
@@ -179,9 +214,11 @@ pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summ
     let monitor = bus.monitor();
     let bus = UsbBusAllocator::new(bus);
     let mut mouse = Mouse::new(&bus).map_err(|e| TwinError::Device(format!("{e:?}")))?;
-    let config = device::tracker_config(input.fs_hz);
+    let config = loaded.profile.config;
     let mut tracker = Tracker::new(&config).map_err(|e| TwinError::Device(e.to_string()))?;
     let mut status = Status::new(device::wake_motion_lsb(config.m_s2_per_lsb));
+    let mut commands = Commands::new(loaded.profile, loaded.source, loaded.invalid, CLOCK_HZ);
+    let (mut stream, mut route) = (Stream::default(), loaded.profile.map);
     let scene_key = Arc::new(AtomicBool::new(false));
     let key = Key {
         scene: scene_key.clone(),
@@ -194,32 +231,37 @@ pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summ
         if waited.elapsed().as_secs_f64() > s.wait_host_s {
             return Err(TwinError::NoHost(s.wait_host_s));
         }
-        serve_until(&mut mouse, Instant::now() + Duration::from_millis(1));
+        serve_until(
+            &mut mouse,
+            Instant::now() + Duration::from_millis(1),
+            &mut stream,
+        );
     }
 
-    let block = device::block_len(input.fs_hz);
-    let blocks = input.codes.len() / block;
+    let mut block = device::block_len(config.fs_hz);
     let tick = Duration::from_millis(1);
-    let (mut produced, mut per_ms) = ([0i64; 2], Vec::with_capacity(blocks));
+    let (mut produced, mut per_ms) = ([0i64; 2], Vec::new());
     let mut late_ticks = 0u32;
     let mut next = Instant::now();
     let mut drain_left = (s.drain_s * 1000.0) as u32;
-    let mut ms = 0u32;
+    let (mut ms, mut played) = (0u32, 0usize);
     loop {
-        let k = ms as usize;
-        if k < blocks {
-            let chunk = &input.codes[k * block..(k + 1) * block];
+        if played + block <= input.codes.len() {
+            let chunk = &input.codes[played..played + block];
             scene_key.store(
-                input.held.get(k * block).copied().unwrap_or(false),
+                input.held.get(played).copied().unwrap_or(false),
                 Ordering::Relaxed,
             );
             on_block(
                 chunk,
                 Delivery::OnTime,
                 ms,
+                route,
                 &mut Exclusive(&mut tracker),
                 &mut Exclusive(&mut status),
+                &mut Exclusive(&mut stream),
             );
+            played += block;
         } else {
             scene_key.store(false, Ordering::Relaxed);
             let owed = mouse.reports().pending() || monitor.in_flight();
@@ -228,12 +270,33 @@ pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summ
             }
             drain_left -= 1;
         }
-        let counts = tracker.take_counts();
+        let counts = route.screen(tracker.take_counts());
         let (dx, dy) = screen_motion(counts);
         produced[0] += i64::from(dx);
         produced[1] += i64::from(dy);
         let before = mouse.reports().reporter().reports();
         mouse.service(counts);
+        let mut r = Resources {
+            mouse: &mut Exclusive(&mut mouse),
+            commands: &mut Exclusive(&mut commands),
+            tracker: &mut Exclusive(&mut tracker),
+            status: &mut Exclusive(&mut status),
+            route: &mut Exclusive(&mut route),
+            stream: &mut Exclusive(&mut stream),
+        };
+        let effect = control::serve(&mut r, || 0);
+        if effect.retime {
+            block = device::block_len(commands.running().config.fs_hz);
+        }
+        if effect.save {
+            let ok = store.save(commands.running()).is_ok();
+            control::answer_save(
+                ok,
+                &mut Exclusive(&mut commands),
+                &mut Exclusive(&mut mouse),
+            );
+        }
+        control::push_stream(&mut Exclusive(&mut mouse), &mut Exclusive(&mut stream));
         hk.tick(
             ms,
             true,
@@ -245,19 +308,30 @@ pub fn run(input: &Input, s: Settings, operator: Arc<AtomicBool>) -> Result<Summ
         if Instant::now() > next + tick {
             late_ticks += 1;
         }
-        serve_until(&mut mouse, next);
+        serve_until(&mut mouse, next, &mut stream);
         per_ms.push(mouse.reports().reporter().reports().wrapping_sub(before));
         ms += 1;
     }
-    Ok(summary(
+    let mut summary = summary(
         input,
         &mouse,
         monitor.traffic(),
         produced,
         &per_ms,
         late_ticks,
-        blocks,
-    ))
+    );
+    summary.scene_s = played as f64 / f64::from(input.fs_hz);
+    summary.profile_source = format!("{:?}", loaded.source);
+    summary.final_fs_hz = commands.running().config.fs_hz;
+    summary.stream_frames = stream.totals().0;
+    if loaded.source != Source::Stored && loaded.source != Source::Defaults {
+        eprintln!(
+            "twin: the stored profile was not used ({:?}{}); defaults",
+            loaded.source,
+            loaded.invalid.map(|k| format!(", {k}")).unwrap_or_default()
+        );
+    }
+    Ok(summary)
 }
 
 fn summary(
@@ -267,7 +341,6 @@ fn summary(
     produced: [i64; 2],
     per_ms: &[u32],
     late_ticks: u32,
-    blocks: usize,
 ) -> Summary {
     let r = mouse.reports().reporter();
     let (sent, discarded, owed) = (r.sent_total(), r.discarded(), r.undelivered());
@@ -278,7 +351,7 @@ fn summary(
         .unwrap_or(0);
     Summary {
         fs_hz: input.fs_hz,
-        scene_s: (blocks * device::block_len(input.fs_hz)) as f64 / f64::from(input.fs_hz),
+        scene_s: 0.0,
         produced,
         sent: [sent.0, sent.1],
         discarded: [discarded.0, discarded.1],
@@ -292,5 +365,8 @@ fn summary(
         late_ticks,
         accounted: sent.0 + discarded.0 + owed.0 == produced[0]
             && sent.1 + discarded.1 + owed.1 == produced[1],
+        profile_source: String::new(),
+        final_fs_hz: input.fs_hz,
+        stream_frames: 0,
     }
 }

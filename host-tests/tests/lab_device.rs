@@ -1,0 +1,183 @@
+//! The configuration interface end to end: the twin (`imu_app` over USB/IP, its profile in a
+//! flash image file) and the host's client (`host_tests::device::client` over the USB/IP
+//! host). Every command; a refused value that changes nothing; a saved profile found by a
+//! restarted twin; a raw recording equal to the scene's codes, sample for sample.
+
+use std::net::SocketAddr;
+use std::path::Path;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use host_tests::device::client::{Client, ClientError};
+use host_tests::device::flash::FileFlash;
+use host_tests::device::twin::{self, Input, Summary};
+use host_tests::device::usbip::BUSID;
+use host_tests::device::usbip_host::UsbIpHost;
+use imu_core::profile::{Key, Profile};
+use imu_core::protocol::{ErrorCode, Source};
+
+/// A scene whose every sample is unique: `[i mod 4096, i / 4096, 2048]`.
+fn scene(seconds: f64) -> Input {
+    let n = (seconds * 3000.0) as usize;
+    Input {
+        fs_hz: 3000,
+        codes: (0..n)
+            .map(|i| [(i & 0xFFF) as u16, ((i >> 12) & 0xFFF) as u16, 2048])
+            .collect(),
+        held: Vec::new(),
+    }
+}
+
+fn start_twin(port: u16, flash: &Path, seconds: f64) -> (SocketAddr, JoinHandle<Summary>) {
+    let addr: SocketAddr = format!("127.0.0.1:{port}").parse().expect("address");
+    let flash = FileFlash::open(flash).expect("flash image");
+    let settings = twin::Settings {
+        addr,
+        wait_host_s: 20.0,
+        drain_s: 0.5,
+    };
+    let input = scene(seconds);
+    let handle = std::thread::spawn(move || {
+        twin::run(&input, settings, Arc::new(AtomicBool::new(false)), flash).expect("twin ran")
+    });
+    (addr, handle)
+}
+
+fn connect(addr: SocketAddr) -> Client<UsbIpHost> {
+    let t0 = Instant::now();
+    loop {
+        match UsbIpHost::connect(addr, BUSID, Duration::from_secs(5)) {
+            Ok(h) => return Client::new(h, Duration::from_secs(5)),
+            Err(e) if t0.elapsed() < Duration::from_secs(10) => {
+                let _ = e;
+                std::thread::sleep(Duration::from_millis(50));
+            }
+            Err(e) => panic!("cannot reach the twin: {e}"),
+        }
+    }
+}
+
+fn value(config: &[(Key, f64)], key: Key) -> f64 {
+    config
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map(|p| p.1)
+        .expect("listed")
+}
+
+fn temp_flash(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("imu-device-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("flash.bin");
+    let _ = std::fs::remove_file(&path);
+    path
+}
+
+#[test]
+fn every_command_works_and_a_saved_profile_survives_a_restart() {
+    let flash = temp_flash("restart");
+    let (addr, twin) = start_twin(3261, &flash, 6.0);
+    let mut c = connect(addr);
+
+    let info = c.info().expect("info");
+    assert_eq!(info.source, Source::Defaults);
+    assert_eq!(info.fs_hz, 3000);
+    assert_eq!(info.firmware, imu_app::identity::FIRMWARE_VERSION);
+    let config = c.config().expect("config get");
+    assert_eq!(config.len(), Key::ALL.len());
+    for (k, v) in &config {
+        let want = Profile::default().get(*k);
+        assert!(*v == want || (v.is_nan() && want.is_nan()), "{k}");
+    }
+
+    // Seven keys: staged over two frames, applied as a whole.
+    let pairs = [
+        (Key::CountsPerInch, 1600.0),
+        (Key::XSign, -1.0),
+        (Key::LowpassFcHz, 80.0),
+        (Key::HoldS, 0.02),
+        (Key::StartSigmas, 20.0),
+        (Key::CalibrationS, 0.5),
+        (Key::FsHz, 4000.0),
+    ];
+    c.set(&pairs).expect("set");
+    let after = c.config().expect("config get");
+    for (k, v) in pairs {
+        assert_eq!(value(&after, k), v, "{k}");
+    }
+    assert_eq!(c.info().expect("info").source, Source::Changed);
+    assert_eq!(c.info().expect("info").fs_hz, 4000);
+
+    // Refused: the key is named and nothing changed.
+    for (pairs, want) in [
+        (vec![(Key::AdcBits, 1.0)], ErrorCode::Invalid(Key::AdcBits)),
+        (
+            vec![(Key::CountsPerInch, 3200.0), (Key::FsHz, 7000.0)],
+            ErrorCode::Unsupported(Key::FsHz),
+        ),
+        (vec![(Key::XAxis, 0.5)], ErrorCode::Value(Key::XAxis)),
+    ] {
+        match c.set(&pairs) {
+            Err(ClientError::Refused(e)) => assert_eq!(e, want),
+            other => panic!("{pairs:?}: {other:?}"),
+        }
+        let now = c.config().expect("config get");
+        assert_eq!(
+            format!("{now:?}"),
+            format!("{after:?}"),
+            "{pairs:?} changed something"
+        );
+    }
+
+    c.save().expect("save");
+    assert_eq!(c.info().expect("info").source, Source::Stored);
+    c.recalibrate().expect("recalibrate");
+    let counters = c.counters().expect("counters");
+    assert!(counters.samples > 0, "{counters:?}");
+    drop(c);
+    let first = twin.join().expect("twin thread");
+    assert_eq!(first.final_fs_hz, 4000);
+
+    // A restart with the flash kept: the saved profile runs.
+    let (addr, twin) = start_twin(3261, &flash, 1.0);
+    let mut c = connect(addr);
+    let info = c.info().expect("info");
+    assert_eq!((info.source, info.fs_hz), (Source::Stored, 4000));
+    let kept = c.config().expect("config get");
+    assert_eq!(format!("{kept:?}"), format!("{after:?}"));
+    // Defaults: running and kept.
+    c.defaults().expect("defaults");
+    assert_eq!(c.info().expect("info").fs_hz, 3000);
+    drop(c);
+    twin.join().expect("twin thread");
+    let (addr, twin) = start_twin(3261, &flash, 0.5);
+    let mut c = connect(addr);
+    let info = c.info().expect("info");
+    assert_eq!((info.source, info.fs_hz), (Source::Stored, 3000));
+    drop(c);
+    twin.join().expect("twin thread");
+    let _ = std::fs::remove_file(&flash);
+}
+
+#[test]
+fn a_recording_is_the_scene_sample_for_sample() {
+    let flash = temp_flash("record");
+    let (addr, twin) = start_twin(3262, &flash, 5.0);
+    let mut c = connect(addr);
+    let rec = c.record(6000, |_| {}).expect("record");
+    drop(c);
+    let summary = twin.join().expect("twin thread");
+    assert_eq!(rec.samples.len(), 6000);
+    assert_eq!(rec.lost(), 0, "gaps: {:?}", rec.gaps);
+    assert_eq!(rec.missing_frames, 0);
+    assert_eq!(rec.device_totals.1, 0);
+    assert!(summary.stream_frames >= rec.frames);
+    // The scene's codes are unique: the first recorded sample says where the stream began.
+    let s0 = rec.samples[0];
+    let start = usize::from(s0[0]) + (usize::from(s0[1]) << 12);
+    let expect = &scene(5.0).codes[start..start + rec.samples.len()];
+    assert_eq!(rec.samples, expect);
+    let _ = std::fs::remove_file(&flash);
+}
