@@ -33,15 +33,15 @@ use usb_device::endpoint::{EndpointAddress, EndpointType};
 use usb_device::{Result as UsbResult, UsbDirection, UsbError};
 
 const ENDPOINTS: usize = 8;
-const VERSION: u16 = 0x0111;
+pub(crate) const VERSION: u16 = 0x0111;
 const OP_REQ_DEVLIST: u16 = 0x8005;
 const OP_REP_DEVLIST: u16 = 0x0005;
-const OP_REQ_IMPORT: u16 = 0x8003;
+pub(crate) const OP_REQ_IMPORT: u16 = 0x8003;
 const OP_REP_IMPORT: u16 = 0x0003;
-const CMD_SUBMIT: u32 = 1;
+pub(crate) const CMD_SUBMIT: u32 = 1;
 const CMD_UNLINK: u32 = 2;
-const RET_SUBMIT: u32 = 3;
-const RET_UNLINK: u32 = 4;
+pub(crate) const RET_SUBMIT: u32 = 3;
+pub(crate) const RET_UNLINK: u32 = 4;
 const EPIPE: i32 = -32;
 const ECONNRESET: i32 = -104;
 /// The one bus id this server exports.

@@ -17,11 +17,8 @@ use std::time::{Duration, Instant};
 
 use imu_core::protocol::{Frame, FRAME_LEN};
 
-const VERSION: u16 = 0x0111;
-const OP_REQ_IMPORT: u16 = 0x8003;
-const CMD_SUBMIT: u32 = 1;
-const RET_SUBMIT: u32 = 3;
-const RET_UNLINK: u32 = 4;
+use crate::device::usbip::{CMD_SUBMIT, OP_REQ_IMPORT, RET_SUBMIT, RET_UNLINK, VERSION};
+
 /// Interrupt IN URBs kept outstanding.
 const IN_FLIGHT: usize = 4;
 
