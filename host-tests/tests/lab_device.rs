@@ -181,3 +181,13 @@ fn a_recording_is_the_scene_sample_for_sample() {
     assert_eq!(rec.samples, expect);
     let _ = std::fs::remove_file(&flash);
 }
+
+#[test]
+fn a_written_recording_reads_back_unchanged() {
+    use host_tests::formats::recording::{parse, write, Recording};
+    let rec = Recording {
+        fs: 4000,
+        samples: scene(0.1).codes,
+    };
+    assert_eq!(parse(&write(&rec), None).expect("parses"), rec);
+}

@@ -13,6 +13,7 @@ import sys
 import time
 
 import usbip
+from usbip.classes.host import hid as usbip_hid
 from usbip.classes.host.hid import HIDDriver
 from usbip.transport import USBIP
 from hidtools.hid import ReportDescriptor
@@ -42,6 +43,28 @@ def wait_for_server(transport, deadline):
         except OSError:
             time.sleep(0.1)
     fail("the twin did not listen on 127.0.0.1:3240")
+
+
+def mouse_driver(handle):
+    """The HID driver on the mouse interface (the first HID interface): PyPI usbip's
+    HIDDriver takes the last one, which is the configuration interface."""
+    drv = HIDDriver(handle)
+    info = {"iface": None, "in_ep": 0x81, "out_ep": None, "in_mps": 64, "report_desc_len": 0}
+    current = None
+    for desc in usbip_hid.iter_descriptors(usbip_hid.fetch_config(handle)):
+        if desc[1] == usbip_hid.DT_INTERFACE and len(desc) >= 9:
+            current = desc[2] if desc[5] == 0x03 else None
+            if current is not None and info["iface"] is None:
+                info["iface"] = current
+        elif current is not None and current == info["iface"]:
+            if desc[1] == usbip_hid.HID_DT_HID and len(desc) >= 9:
+                info["report_desc_len"] = desc[7] | (desc[8] << 8)
+            elif desc[1] == usbip_hid.DT_ENDPOINT and len(desc) >= 7 and desc[2] & 0x80:
+                info["in_ep"], info["in_mps"] = desc[2], desc[4] | (desc[5] << 8)
+    if info["iface"] != 0:
+        fail(f"the mouse is not interface 0: {info}")
+    drv._discovered = info
+    return drv
 
 
 def decoder(rdesc_bytes):
@@ -98,7 +121,7 @@ def main():
         if ("1-1", *VID_PID) not in listed:
             fail(f"device list {listed} lacks 1-1 {VID_PID[0]:04x}:{VID_PID[1]:04x}")
 
-        drv = HIDDriver(usbip.open(*VID_PID, busid="1-1", transport=transport))
+        drv = mouse_driver(usbip.open(*VID_PID, busid="1-1", transport=transport))
         h = drv.handle
         dd = h.device_descriptor
         rdesc = drv.report_descriptor()
@@ -114,6 +137,17 @@ def main():
         if drv.get_protocol() != 1:
             fail("GET_PROTOCOL is not report protocol")
         print(f"twin_check: enumerated {dd}, report descriptor {len(rdesc)} bytes parsed by hid-tools")
+        # The configuration interface (interface 1): a vendor usage page, one 64-byte input
+        # and one 64-byte output report, as hid-tools reads its descriptor.
+        cdesc = h.control(0x81, 0x06, 0x2200, 1, 256)
+        crd = ReportDescriptor.from_bytes(list(cdesc))
+        cin = crd.get(0, 64)
+        if not cdesc.startswith(bytes([0x06, 0x00, 0xFF])) or cin is None or cin.size != 64:
+            fail(f"configuration interface descriptor {cdesc.hex()}: not vendor 0xFF00 with a 64-byte input report")
+        if [r.size for r in crd.output_reports.values()] != [64]:
+            fail(f"configuration interface: output reports {crd.output_reports}, wanted one of 64 bytes")
+        print(f"twin_check: configuration interface descriptor {len(cdesc)} bytes parsed by hid-tools "
+              f"(vendor page, 64-byte input and output reports)")
 
         total = {"x": 0, "y": 0, "n": 0}
         stamps = []
@@ -146,7 +180,7 @@ def main():
             if add(decode(drv.read_report())).get("buttons", 0) & 1:
                 break
         drv.close()
-        drv = HIDDriver(usbip.open(*VID_PID, busid="1-1", transport=transport))
+        drv = mouse_driver(usbip.open(*VID_PID, busid="1-1", transport=transport))
         v = add(decode(drv.read_report()))
         if not v.get("buttons", 0) & 1:
             fail(f"after the reset the first report {v} does not carry the held button")

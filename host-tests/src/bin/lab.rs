@@ -43,10 +43,13 @@ enum Command {
     /// The firmware's app as a USB/IP mouse on this host, fed in real time by a scene or a
     /// recording (`usbip attach -r 127.0.0.1 -b 1-1` makes it a mouse of a Linux desktop).
     Twin(cmd::twin::Args),
+    /// The device's settings and raw recording over its configuration interface, on a
+    /// board (hidapi) or the twin (`--twin 127.0.0.1:3240`).
+    Device(cmd::device::Args),
 }
 
 /// Each command with one example, in the order of `Command`.
-const EXAMPLES: [(&str, &str); 11] = [
+const EXAMPLES: [(&str, &str); 12] = [
     ("predict", cmd::predict::EXAMPLE),
     ("budget", cmd::budget::EXAMPLE),
     ("hid", cmd::hid::EXAMPLE),
@@ -58,6 +61,7 @@ const EXAMPLES: [(&str, &str); 11] = [
     ("allan", cmd::allan::EXAMPLE),
     ("drift", cmd::drift::EXAMPLE),
     ("twin", cmd::twin::EXAMPLE),
+    ("device", cmd::device::EXAMPLE),
 ];
 
 fn examples() -> String {
@@ -78,6 +82,7 @@ fn run(command: &Command) -> cmd::Outcome {
         Command::Replay(a) => cmd::replay::run(a),
         Command::Speed(a) => cmd::speed::run(a),
         Command::Mouse(a) => cmd::mouse::run(a),
+        Command::Device(a) => cmd::device::run(a),
         Command::Allan(a) => cmd::allan::run(a),
         Command::Drift(a) => cmd::drift::run(a),
         Command::Twin(a) => cmd::twin::run(a),

@@ -22,6 +22,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 pub mod allan;
 pub mod budget;
+pub mod device;
 pub mod drift;
 pub mod hid;
 pub mod mouse;

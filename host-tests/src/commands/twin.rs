@@ -18,7 +18,8 @@ pub const EXAMPLE: &str = "cargo lab twin --seconds 30   (then: usbip attach -r 
 /// `cargo lab twin`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The scene: `desk` (strokes, rests and clicks) or `rest` (the hand still).
+    /// The scene: `desk` (strokes, rests and clicks) or `rest` (the hand still for
+    /// `--seconds`, 10 s if not given).
     #[arg(long, default_value = "desk", conflicts_with = "replay")]
     pub scene: String,
     /// Play a recording (CSV of ADC codes, as `cargo lab replay`) instead of a scene.
@@ -61,12 +62,11 @@ fn input(a: &Args) -> Result<twin::Input, Error> {
             }
         }
         None => {
-            let strokes = match a.scene.as_str() {
-                "desk" => a.strokes,
-                "rest" => 0,
+            let (codes, held) = match a.scene.as_str() {
+                "desk" => desk::stream(a.strokes, a.seed),
+                "rest" => desk::rest(a.seconds.unwrap_or(10.0).clamp(0.0, 86_400.0), a.seed),
                 other => return Err(Error::arg("scene", other, "`desk` or `rest`")),
             };
-            let (codes, held) = desk::stream(strokes, a.seed);
             twin::Input {
                 fs_hz: desk::FS as u32,
                 codes,

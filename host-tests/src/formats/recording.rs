@@ -1,4 +1,5 @@
-//! Reading a recorded trace for `cargo lab replay`.
+//! Reading a recorded trace for `cargo lab replay` (and `allan`, `drift`), and writing one
+//! (`cargo lab device record`).
 //!
 //! # Format
 //! ```text
@@ -65,6 +66,16 @@ pub(crate) fn err<T>(line: usize, problem: impl Into<String>) -> Result<T, Recor
 enum Clock {
     Index,
     Time,
+}
+
+/// The recording in the format [`parse`] reads: the `fs,` line, the header `n,x,y,z`, one
+/// row per sample.
+pub fn write(rec: &Recording) -> String {
+    let mut s = format!("# raw ADC codes, as sampled\nfs,{}\nn,x,y,z\n", rec.fs);
+    for (i, [x, y, z]) in rec.samples.iter().enumerate() {
+        s += &format!("{i},{x},{y},{z}\n");
+    }
+    s
 }
 
 /// Parses a recording; `fs_arg` is `--fs`, if given.

@@ -175,3 +175,15 @@ pub fn stream(strokes: usize, seed: u64) -> (Vec<[u16; 3]>, Vec<bool>) {
     let held = (0..p.n).map(|i| p.held(i)).collect();
     (codes, held)
 }
+
+/// The hand resting on the desk for `seconds` [s]: ADC codes at 3 kHz of the desk's sensor
+/// with no motion, and the button never held.
+pub fn rest(seconds: f64, seed: u64) -> (Vec<[u16; 3]>, Vec<bool>) {
+    let mut rng = noise::rng(seed);
+    let mut sensor = Sensor::new(&mut rng);
+    let n = (seconds.max(0.0) * FS) as usize;
+    let codes = (0..n)
+        .map(|_| sensor.codes([0.0; 3], [0.0; 3], &mut rng))
+        .collect();
+    (codes, vec![false; n])
+}
