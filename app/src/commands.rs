@@ -14,7 +14,7 @@ use imu_core::profile::{Key, Profile, ProfileError};
 use imu_core::protocol::{
     code, AxisCalibration, Counters, ErrorCode, Info, Request, Response, Source, PAIRS_MAX,
 };
-use imu_core::{Calibration, Phase};
+use imu_core::Calibration;
 
 use crate::device::rate_accepted;
 use crate::identity::FIRMWARE_VERSION;
@@ -73,13 +73,6 @@ pub struct View {
     pub stream: (bool, u32, u32),
 }
 
-impl View {
-    /// Whether `phase` is tracking (a helper for callers building a view).
-    pub fn tracking(phase: Phase) -> bool {
-        phase == Phase::Tracking
-    }
-}
-
 /// The configuration interface's state.
 #[derive(Clone, Copy, Debug)]
 pub struct Commands {
@@ -113,11 +106,6 @@ impl Commands {
     /// Where the running profile came from.
     pub fn source(&self) -> Source {
         self.source
-    }
-
-    /// Whether a save waits for [`Self::saved`].
-    pub fn saving(&self) -> bool {
-        self.saving.is_some()
     }
 
     /// The outcome of request `req` with `tag`, given what the device knows (`view`).

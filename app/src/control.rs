@@ -10,8 +10,8 @@
 //! (`FrameError::response`), never dropped in silence.
 
 use imu_core::profile::AxisMap;
-use imu_core::protocol::{Request, Response};
-use imu_core::Tracker;
+use imu_core::protocol::{Frame, Request, Response, StreamFrame};
+use imu_core::{Phase, Tracker};
 use rtic_core::Mutex;
 use usb_device::bus::UsbBus;
 
@@ -20,6 +20,34 @@ use crate::device::wake_motion_lsb;
 use crate::mouse::Mouse;
 use crate::status::Status;
 use crate::stream::Stream;
+
+/// The configuration interface's frames in and out: what [`serve`] needs of the USB device
+/// ([`Mouse`] on the board and the twin; a stand-in in the tests).
+pub trait Port {
+    /// The request received, if any, and its length [bytes].
+    fn take_request(&mut self) -> Option<(Frame, usize)>;
+    /// Queues a response; `false` if it had to be dropped.
+    fn respond(&mut self, frame: Frame) -> bool;
+    /// Pushes a stream frame if the interface is free; whether it went.
+    fn push_stream_frame(&mut self, frame: &StreamFrame) -> bool;
+    /// Mouse reports sent so far.
+    fn reports_sent(&self) -> u32;
+}
+
+impl<B: UsbBus> Port for Mouse<'_, B> {
+    fn take_request(&mut self) -> Option<(Frame, usize)> {
+        Mouse::take_request(self)
+    }
+    fn respond(&mut self, frame: Frame) -> bool {
+        Mouse::respond(self, frame)
+    }
+    fn push_stream_frame(&mut self, frame: &StreamFrame) -> bool {
+        Mouse::push_stream_frame(self, frame)
+    }
+    fn reports_sent(&self) -> u32 {
+        self.reports().reporter().reports()
+    }
+}
 
 /// What the device knows for the read-only requests: the tracker, the calibration, the
 /// stream, and the board's `reports` sent and sampling `restarts`.
@@ -30,7 +58,7 @@ pub fn view(
     reports: u32,
     restarts: u32,
 ) -> View {
-    let (tracking, counters) = tracker.lock(|t| (View::tracking(t.phase()), t.counters()));
+    let (tracking, counters) = tracker.lock(|t| (t.phase() == Phase::Tracking, t.counters()));
     let (on, (frames, lost)) = stream.lock(|s| (s.on(), s.totals()));
     View {
         tracking,
@@ -44,7 +72,7 @@ pub fn view(
 
 /// The resources a request may read or change.
 pub struct Resources<'r, M, C, T, S, R, Q> {
-    /// The USB device.
+    /// The USB device (a [`Port`]).
     pub mouse: &'r mut M,
     /// The configuration interface's state.
     pub commands: &'r mut C,
@@ -62,31 +90,32 @@ pub struct Resources<'r, M, C, T, S, R, Q> {
 /// later, through [`answer_save`]), and carries out what needs no board ([`carry_out`]).
 /// `restarts` gives the board's sampling restarts for the counters. Returns the effect, of
 /// which the caller still owes the retime and the save.
-pub fn serve<'a, 'r, B, M, C, T, S, R, Q>(
+pub fn serve<'r, P, M, C, T, S, R, Q>(
     r: &mut Resources<'r, M, C, T, S, R, Q>,
     restarts: impl FnOnce() -> u32,
 ) -> Effect
 where
-    B: UsbBus + 'a,
-    M: Mutex<T = Mouse<'a, B>>,
+    P: Port,
+    M: Mutex<T = P>,
     C: Mutex<T = Commands>,
     T: Mutex<T = Tracker>,
     S: Mutex<T = Status>,
     R: Mutex<T = AxisMap>,
     Q: Mutex<T = Stream>,
 {
-    let Some((frame, len)) = r.mouse.lock(Mouse::take_request) else {
+    let Some((frame, len)) = r.mouse.lock(P::take_request) else {
         return Effect::default();
     };
     let mouse = &mut *r.mouse;
-    let (tag, reply) = match Request::decode(&frame[..len]) {
+    let bytes = &frame[..len.min(frame.len())];
+    let (tag, reply) = match Request::decode(bytes) {
         Ok((tag, req)) => {
-            let reports = mouse.lock(|m| m.reports().reporter().reports());
+            let reports = mouse.lock(|m| m.reports_sent());
             let v = view(r.tracker, r.status, r.stream, reports, restarts());
             (tag, r.commands.lock(|c| c.handle(tag, req, &v)))
         }
         Err(e) => {
-            let tag = frame.get(2).copied().unwrap_or(0);
+            let tag = bytes.get(2).copied().unwrap_or(0);
             let response = Response::Error(e.response());
             return answer(mouse, tag, &response);
         }
@@ -98,11 +127,7 @@ where
     reply.effect
 }
 
-fn answer<'a, B: UsbBus + 'a>(
-    mouse: &mut impl Mutex<T = Mouse<'a, B>>,
-    tag: u8,
-    response: &Response,
-) -> Effect {
+fn answer<P: Port>(mouse: &mut impl Mutex<T = P>, tag: u8, response: &Response) -> Effect {
     let frame = response.encode(tag);
     mouse.lock(|m| m.respond(frame));
     Effect::default()
@@ -141,10 +166,7 @@ where
 }
 
 /// Pushes the raw stream's next frame if the configuration interface is free.
-pub fn push_stream<'a, B: UsbBus + 'a>(
-    mouse: &mut impl Mutex<T = Mouse<'a, B>>,
-    stream: &mut impl Mutex<T = Stream>,
-) {
+pub fn push_stream<P: Port>(mouse: &mut impl Mutex<T = P>, stream: &mut impl Mutex<T = Stream>) {
     let Some(frame) = stream.lock(|s| s.frame()) else {
         return;
     };
@@ -154,10 +176,10 @@ pub fn push_stream<'a, B: UsbBus + 'a>(
 }
 
 /// The save asked for is done (`ok`) or failed: its response goes out.
-pub fn answer_save<'a, B: UsbBus + 'a>(
+pub fn answer_save<P: Port>(
     ok: bool,
     commands: &mut impl Mutex<T = Commands>,
-    mouse: &mut impl Mutex<T = Mouse<'a, B>>,
+    mouse: &mut impl Mutex<T = P>,
 ) {
     if let Some((tag, response)) = commands.lock(|c| c.saved(ok)) {
         answer(mouse, tag, &response);

@@ -29,8 +29,10 @@ use sequential_storage::map::{MapConfig, MapStorage};
 
 /// The map key under which the profile is kept.
 const PROFILE_KEY: u8 = 1;
-/// Work buffer [bytes]: the record, the key and the item header, rounded up to 4-byte words.
-const BUFFER_LEN: usize = (RECORD_LEN + 1 + 16).next_multiple_of(4);
+/// Work buffer [bytes]: the key (1 byte) and the record, rounded up to the flash's 4-byte
+/// words, as `sequential-storage` asks.
+const BUFFER_LEN: usize = 256;
+const _: () = assert!(BUFFER_LEN >= 1 + RECORD_LEN && BUFFER_LEN.is_multiple_of(4));
 
 /// Runs `f` to completion, polling with a no-op waker (blocking flash: one poll).
 pub fn block_on<F: Future>(f: F) -> F::Output {

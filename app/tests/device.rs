@@ -66,3 +66,12 @@ fn the_tracker_runs_at_the_device_rate_with_the_core_defaults() {
         }
     );
 }
+
+#[test]
+fn the_firmware_version_is_the_crates() {
+    let v = imu_app::identity::FIRMWARE_VERSION;
+    assert_eq!(
+        format!("{}.{}.{}", v[0], v[1], v[2]),
+        env!("CARGO_PKG_VERSION")
+    );
+}

@@ -171,3 +171,13 @@ fn power_lost_at_every_byte_of_a_save_that_erases_a_page_leaves_the_old_or_the_n
         "{olds} cuts kept the old, {news} the new ({saves} saves)"
     );
 }
+
+#[test]
+fn a_flash_that_fails_is_reported_as_a_flash_error() {
+    let mut f = flash();
+    f.bytes_until_shutoff = Some(0);
+    assert_eq!(
+        store(f).save(&profile(1600)),
+        Err(imu_app::store::StoreError::Flash)
+    );
+}
