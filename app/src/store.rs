@@ -32,7 +32,9 @@ const PROFILE_KEY: u8 = 1;
 /// Work buffer [bytes]: the key (1 byte) and the record, rounded up to the flash's 4-byte
 /// words, as `sequential-storage` asks.
 const BUFFER_LEN: usize = 256;
-const _: () = assert!(BUFFER_LEN >= 1 + RECORD_LEN && BUFFER_LEN.is_multiple_of(4));
+/// The map key's serialised length [bytes] (a `u8`).
+const KEY_LEN: usize = 1;
+const _: () = assert!(BUFFER_LEN >= KEY_LEN + RECORD_LEN && BUFFER_LEN.is_multiple_of(4));
 
 /// Runs `f` to completion, polling with a no-op waker (blocking flash: one poll).
 pub fn block_on<F: Future>(f: F) -> F::Output {
