@@ -439,3 +439,67 @@ fn the_record_round_trips_and_reads_what_it_can_of_another_version() {
     );
     assert_eq!(got.config.lowpass_fc_hz, Some(80.0));
 }
+
+#[test]
+fn every_source_has_its_byte_and_no_other_byte_is_one() {
+    for s in [
+        Source::Defaults,
+        Source::Stored,
+        Source::Corrupt,
+        Source::Invalid,
+        Source::Changed,
+    ] {
+        assert_eq!(Source::from_u8(s as u8), Some(s));
+    }
+    assert_eq!(Source::from_u8(5), None);
+}
+
+#[test]
+fn a_length_beyond_sixty_is_refused_even_in_a_longer_buffer() {
+    let mut long = [0u8; 80];
+    long[..FRAME_LEN].copy_from_slice(&Request::Info.encode(0));
+    long[3] = 61;
+    assert_eq!(header(&long), Err(FrameError::Truncated));
+    long[3] = 60;
+    assert!(header(&long).is_ok());
+}
+
+#[test]
+fn keys_and_refusals_read_as_a_user_writes_them() {
+    assert_eq!(Key::CountsPerInch.to_string(), "counts_per_inch");
+    assert_eq!(Key::HoldS.to_string(), "drift.hold_s");
+    let cases = [
+        (
+            ProfileError::Value(Key::XAxis),
+            "x_axis: must be an integer in 0..=2",
+        ),
+        (
+            ProfileError::Value(Key::Drift),
+            "drift: must be 0 (off) or 1 (on)",
+        ),
+        (ProfileError::Value(Key::XSign), "x_sign: must be 1 or -1"),
+        (
+            ProfileError::Value(Key::HoldS),
+            "drift.hold_s: not a valid number",
+        ),
+        (ProfileError::SameAxis, "y_axis: must differ from x_axis"),
+    ];
+    for (e, want) in cases {
+        assert_eq!(e.to_string(), want);
+    }
+    let invalid = ProfileError::Invalid(ConfigError::AdcBits { adc_bits: 1 });
+    assert!(invalid.to_string().starts_with("adc_bits = 1"), "{invalid}");
+}
+
+#[test]
+fn an_axis_beyond_z_is_not_a_valid_map() {
+    let ok = AxisMap::default();
+    assert!(ok.is_valid());
+    for bad in [
+        AxisMap { x_axis: 3, ..ok },
+        AxisMap { y_axis: 3, ..ok },
+        AxisMap { y_axis: 0, ..ok },
+    ] {
+        assert!(!bad.is_valid(), "{bad:?}");
+    }
+}
