@@ -84,8 +84,13 @@ pub mod code {
     pub const STREAM_START: u8 = 0x20;
     /// Stop streaming.
     pub const STREAM_STOP: u8 = 0x21;
-    /// Set on a response's code: `request | RESPONSE`.
+    /// Added to a request's code (all below 0x80) to make its response's: [`answer`].
     pub const RESPONSE: u8 = 0x80;
+
+    /// The code of the response to request `request` (a request code, below 0x80).
+    pub const fn answer(request: u8) -> u8 {
+        request.wrapping_add(RESPONSE)
+    }
     /// A stream frame of raw codes, 12-bit packed.
     pub const STREAM: u8 = 0x40;
     /// A stream frame of raw codes, 16 bits each.
@@ -393,10 +398,9 @@ impl<'a> Reader<'a> {
             Err(FrameError::Payload)
         }
     }
+    /// `(key, value)` pairs to the payload's end: a pair cut short, or more than
+    /// [`PAIRS_MAX`], is [`FrameError::Payload`].
     fn pairs(&mut self) -> Result<Vec<(Key, f64), PAIRS_MAX>, FrameError> {
-        if !self.0.len().is_multiple_of(9) || self.0.len() / 9 > PAIRS_MAX {
-            return Err(FrameError::Payload);
-        }
         let mut out = Vec::new();
         while !self.0.is_empty() {
             let id = self.u8()?;
@@ -494,9 +498,8 @@ impl Request {
 impl Response {
     /// The response as a frame answering the request with `tag`.
     pub fn encode(&self, tag: u8) -> Frame {
-        let r = code::RESPONSE;
         match self {
-            Self::Info(i) => Writer::new(code::INFO | r, tag)
+            Self::Info(i) => Writer::new(code::answer(code::INFO), tag)
                 .put(&i.firmware)
                 .put(&[
                     i.protocol,
@@ -507,7 +510,7 @@ impl Response {
                 ])
                 .put(&i.fs_hz.to_le_bytes())
                 .done(),
-            Self::Counters(c) => Writer::new(code::COUNTERS | r, tag)
+            Self::Counters(c) => Writer::new(code::answer(code::COUNTERS), tag)
                 .put(&c.samples.to_le_bytes())
                 .put(&c.lost.to_le_bytes())
                 .put(&c.restarts.to_le_bytes())
@@ -517,7 +520,7 @@ impl Response {
                 .put(&c.stream_lost.to_le_bytes())
                 .done(),
             Self::Calibration(cal) => {
-                let mut w = Writer::new(code::CALIBRATION | r, tag);
+                let mut w = Writer::new(code::answer(code::CALIBRATION), tag);
                 w.put(&[u8::from(cal.is_some())]);
                 for a in cal.iter().flatten() {
                     w.put(&a.bias_q16.to_le_bytes())
@@ -529,15 +532,15 @@ impl Response {
                 total,
                 start,
                 pairs,
-            } => Writer::new(code::GET_CONFIG | r, tag)
+            } => Writer::new(code::answer(code::GET_CONFIG), tag)
                 .put(&[*total, *start])
                 .pairs(pairs)
                 .done(),
-            Self::Staged { count, applied } => Writer::new(code::SET_CONFIG | r, tag)
+            Self::Staged { count, applied } => Writer::new(code::answer(code::SET_CONFIG), tag)
                 .put(&[*count, u8::from(*applied)])
                 .done(),
-            Self::Done(c) => Writer::new(c | r, tag).done(),
-            Self::Stopped { frames, lost } => Writer::new(code::STREAM_STOP | r, tag)
+            Self::Done(c) => Writer::new(code::answer(*c), tag).done(),
+            Self::Stopped { frames, lost } => Writer::new(code::answer(code::STREAM_STOP), tag)
                 .put(&frames.to_le_bytes())
                 .put(&lost.to_le_bytes())
                 .done(),
@@ -558,7 +561,7 @@ impl Response {
                 let [c, d] = p.take()?;
                 Self::Error(ErrorCode::from_bytes(c, d).ok_or(FrameError::Payload)?)
             }
-            x if x == code::INFO | code::RESPONSE => {
+            x if x == code::answer(code::INFO) => {
                 let firmware = p.take()?;
                 let [protocol, source, invalid_key, tracking, streaming] = p.take()?;
                 Self::Info(Info {
@@ -571,7 +574,7 @@ impl Response {
                     fs_hz: p.u32()?,
                 })
             }
-            x if x == code::COUNTERS | code::RESPONSE => Self::Counters(Counters {
+            x if x == code::answer(code::COUNTERS) => Self::Counters(Counters {
                 samples: p.u64()?,
                 lost: p.u64()?,
                 restarts: p.u32()?,
@@ -580,7 +583,7 @@ impl Response {
                 stream_frames: p.u32()?,
                 stream_lost: p.u32()?,
             }),
-            x if x == code::CALIBRATION | code::RESPONSE => {
+            x if x == code::answer(code::CALIBRATION) => {
                 if p.u8()? == 0 {
                     Self::Calibration(None)
                 } else {
@@ -592,7 +595,7 @@ impl Response {
                     Self::Calibration(Some(axes))
                 }
             }
-            x if x == code::GET_CONFIG | code::RESPONSE => {
+            x if x == code::answer(code::GET_CONFIG) => {
                 let [total, start] = p.take()?;
                 Self::Config {
                     total,
@@ -600,14 +603,14 @@ impl Response {
                     pairs: p.pairs()?,
                 }
             }
-            x if x == code::SET_CONFIG | code::RESPONSE => {
+            x if x == code::answer(code::SET_CONFIG) => {
                 let [count, applied] = p.take()?;
                 Self::Staged {
                     count,
                     applied: applied != 0,
                 }
             }
-            x if x == code::STREAM_STOP | code::RESPONSE => Self::Stopped {
+            x if x == code::answer(code::STREAM_STOP) => Self::Stopped {
                 frames: p.u32()?,
                 lost: p.u32()?,
             },
@@ -617,10 +620,10 @@ impl Response {
                 code::RECALIBRATE,
                 code::STREAM_START,
             ]
-            .map(|c| c | code::RESPONSE)
+            .map(code::answer)
             .contains(&x) =>
             {
-                Self::Done(x & !code::RESPONSE)
+                Self::Done(x - code::RESPONSE)
             }
             other => return Err(FrameError::Code(other)),
         };

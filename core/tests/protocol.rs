@@ -143,7 +143,7 @@ fn foreign_versions_and_codes_are_named() {
     // A response code is not a request, and a request code is not a response.
     assert_eq!(
         Request::decode(&Response::Done(code::SAVE).encode(0)),
-        Err(FrameError::Code(code::SAVE | code::RESPONSE))
+        Err(FrameError::Code(code::answer(code::SAVE)))
     );
     assert_eq!(
         Response::decode(&Request::Save.encode(0)),
