@@ -688,7 +688,9 @@ impl StreamFrame {
                 match pending.take() {
                     None => pending = Some(c),
                     Some(a) => {
-                        w.put(&[a as u8, ((a >> 8) as u8) | ((c as u8) << 4), (c >> 4) as u8]);
+                        // `a`'s high nibble and `c`'s low nibble share a byte; their bits
+                        // are disjoint, so the sum is their union.
+                        w.put(&[a as u8, ((a >> 8) as u8) + ((c as u8) << 4), (c >> 4) as u8]);
                     }
                 }
             }
@@ -726,11 +728,12 @@ impl StreamFrame {
             for pair in codes[..3 * n].chunks_mut(2) {
                 if let [a, b] = pair {
                     let [x, y, z] = p.take()?;
-                    *a = u16::from(x) | (u16::from(y & 0x0F) << 8);
-                    *b = u16::from(y >> 4) | (u16::from(z) << 4);
+                    // Disjoint bits: the sums are unions.
+                    *a = u16::from(x) + (u16::from(y & 0x0F) << 8);
+                    *b = u16::from(y >> 4) + (u16::from(z) << 4);
                 } else {
                     let [x, y] = p.take()?;
-                    pair[0] = u16::from(x) | (u16::from(y & 0x0F) << 8);
+                    pair[0] = u16::from(x) + (u16::from(y & 0x0F) << 8);
                 }
             }
         }
