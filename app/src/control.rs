@@ -26,8 +26,9 @@ use crate::stream::Stream;
 pub trait Port {
     /// The request received, if any, and its length [bytes].
     fn take_request(&mut self) -> Option<(Frame, usize)>;
-    /// Queues a response; `false` if it had to be dropped.
-    fn respond(&mut self, frame: Frame) -> bool;
+    /// Queues a response (dropped if the port's queue is full, which a host that waits for
+    /// each answer never causes).
+    fn respond(&mut self, frame: Frame);
     /// Pushes a stream frame if the interface is free; whether it went.
     fn push_stream_frame(&mut self, frame: &StreamFrame) -> bool;
     /// Mouse reports sent so far.
@@ -38,8 +39,8 @@ impl<B: UsbBus> Port for Mouse<'_, B> {
     fn take_request(&mut self) -> Option<(Frame, usize)> {
         Mouse::take_request(self)
     }
-    fn respond(&mut self, frame: Frame) -> bool {
-        Mouse::respond(self, frame)
+    fn respond(&mut self, frame: Frame) {
+        Mouse::respond(self, frame);
     }
     fn push_stream_frame(&mut self, frame: &StreamFrame) -> bool {
         Mouse::push_stream_frame(self, frame)

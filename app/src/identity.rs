@@ -24,14 +24,12 @@ pub const POLL_MS: u8 = 1;
 /// 0.03 m/s^2, a hand moving a mouse exceeds 0.5 m/s^2, and a tilt of 3 degrees gives it).
 pub const WAKE_MOTION_M_S2: f64 = 0.5;
 
+/// A version component, at compile time (a non-numeric one fails the build).
 const fn digits(s: &str) -> u8 {
-    let b = s.as_bytes();
-    let (mut i, mut v) = (0, 0u8);
-    while i < b.len() {
-        v = v * 10 + (b[i] - b'0');
-        i += 1;
+    match u8::from_str_radix(s, 10) {
+        Ok(v) => v,
+        Err(_) => panic!("a version component is a number below 256"),
     }
-    v
 }
 
 /// Firmware version `[major, minor, patch]`: this crate's version, as the configuration

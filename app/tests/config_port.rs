@@ -244,3 +244,56 @@ fn nothing_streams_to_a_host_that_is_not_listening_and_a_reset_empties_the_boxes
         "no stale answer for the next host"
     );
 }
+
+#[test]
+fn a_request_through_the_real_mouse_is_answered_on_its_in_endpoint() {
+    use imu_app::commands::Commands;
+    use imu_app::control::{self, Resources};
+    use imu_app::stream::Stream;
+    use imu_app::Status;
+    use imu_core::profile::Profile;
+    use imu_core::protocol::{Response, Source};
+    use imu_core::Tracker;
+    use rtic_core::Exclusive;
+
+    let (host, alloc) = bus();
+    let mut mouse = configured(&host, alloc);
+    // Two mouse reports, read by the host on EP1.
+    for dx in [3, 2] {
+        mouse.service([dx, 0, 0]);
+        host.read(1).expect("a mouse report");
+    }
+    let p = Profile::default();
+    let mut commands = Commands::new(p, Source::Defaults, None, 96_000_000);
+    let mut tracker = Tracker::new(&p.config).expect("valid");
+    let (mut status, mut route, mut stream) = (Status::new(20), p.map, Stream::default());
+    let mut serve = |mouse: &mut Mouse<'static, ScriptBus>, req: Request, tag: u8| {
+        host.send(CONFIG_OUT, &req.encode(tag));
+        mouse.service([0; 3]);
+        let mut r = Resources {
+            mouse: &mut Exclusive(mouse),
+            commands: &mut Exclusive(&mut commands),
+            tracker: &mut Exclusive(&mut tracker),
+            status: &mut Exclusive(&mut status),
+            route: &mut Exclusive(&mut route),
+            stream: &mut Exclusive(&mut stream),
+        };
+        control::serve(&mut r, || 0);
+        let answer = host.read(CONFIG_IN).expect("answered");
+        Response::decode(&answer).expect("decodes")
+    };
+    let (tag, r) = serve(&mut mouse, Request::Counters, 4);
+    let Response::Counters(c) = r else {
+        panic!("{r:?}")
+    };
+    assert_eq!((tag, c.reports), (4, 2));
+    serve(&mut mouse, Request::StreamStart, 5);
+    stream.push(&[[7, 8, 9]], 0);
+    control::push_stream(&mut Exclusive(&mut mouse), &mut Exclusive(&mut stream));
+    let f = host.read(CONFIG_IN).expect("a stream frame");
+    assert_eq!(
+        StreamFrame::decode(&f).map(|f| f.triples.to_vec()),
+        Ok(vec![[7, 8, 9]])
+    );
+    assert_eq!(stream.frame(), None, "sent: off the queue");
+}

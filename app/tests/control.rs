@@ -29,9 +29,8 @@ impl Port for FakePort {
     fn take_request(&mut self) -> Option<(Frame, usize)> {
         self.inbox.pop_front()
     }
-    fn respond(&mut self, frame: Frame) -> bool {
+    fn respond(&mut self, frame: Frame) {
         self.sent.push(frame);
-        true
     }
     fn push_stream_frame(&mut self, frame: &StreamFrame) -> bool {
         if self.busy {
