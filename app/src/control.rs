@@ -136,7 +136,9 @@ fn answer<P: Port>(mouse: &mut impl Mutex<T = P>, tag: u8, response: &Response) 
 
 /// The effect's part that needs no board: the running profile to the tracker (a new
 /// configuration recalibrates; the wake-up threshold follows the scale) and the axis
-/// mapping, a recalibration, the stream started or stopped.
+/// mapping, a recalibration, the stream started or stopped. A new configuration stops a
+/// running stream: its rate or code width may have changed, and a recording must not change
+/// meaning half-way (the host sees the stream stop and says so).
 fn carry_out<'r, M, C, T, S, R, Q>(effect: &Effect, r: &mut Resources<'r, M, C, T, S, R, Q>)
 where
     C: Mutex<T = Commands>,
@@ -153,6 +155,7 @@ where
         let wake = wake_motion_lsb(profile.config.m_s2_per_lsb);
         r.status.lock(|s| *s = Status::new(wake));
         r.route.lock(|m| *m = profile.map);
+        r.stream.lock(Stream::stop);
     }
     if effect.recalibrate {
         r.tracker.lock(Tracker::recalibrate);

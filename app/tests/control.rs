@@ -199,7 +199,13 @@ fn an_applied_set_reaches_the_tracker_the_status_and_the_mapping() {
             y_flip: true
         }
     );
+    // A new configuration stops a running stream (its rate or width may have changed).
+    d.ask(3, &Request::StreamStart);
+    assert!(d.stream.on());
+    d.ask(4, &set(&[(Key::CountsPerInch, 800.0)]));
+    assert!(!d.stream.on());
     // A refused set changes none of them.
+    d.ask(5, &Request::StreamStart);
     d.calibrate();
     let (effect, answers) = d.ask(2, &set(&[(Key::AdcBits, 1.0)]));
     assert_eq!(effect, Default::default());
@@ -209,6 +215,7 @@ fn an_applied_set_reaches_the_tracker_the_status_and_the_mapping() {
     );
     assert_eq!(d.tracker.phase(), Phase::Tracking);
     assert!(d.status.calibration().is_some());
+    assert!(d.stream.on());
 }
 
 #[test]
