@@ -7,14 +7,17 @@ use host_tests::commands::speed::{
 use imu_core::bench::testsignal::Checksum;
 use imu_core::{AdcCode, Axis, Config};
 
-const GOOD: &str = "calib 344 172204\nkernel baseline 3072 12 2698151 7b6448aed996ce09 0\n";
+const GOOD: &str = "calib 344 172204\nkernel baseline 3072 12 2698151 7b6448aed996ce09 0 230000\n";
 
 #[test]
 fn parser_reads_instructions_and_compares_checksums() {
     let host = [("baseline", 0x7b64_48ae_d996_ce09)];
     let k = parse_target(GOOD, &host).expect("valid");
-    // (2698151 ticks) / (171.86 ticks per instruction) / 3072 samples = 5.11.
-    assert!((k[0].instructions_per_sample - 2_698_151.0 / 171.86 / 3072.0).abs() < 1e-9);
+    // (2698151 ticks - 12 blocks x 344 empty) / (171.86 ticks per instruction) / 3072 samples.
+    let want = (2_698_151.0 - 12.0 * 344.0) / 171.86 / 3072.0;
+    assert!((k[0].instructions_per_sample - want).abs() < 1e-9);
+    assert_eq!(k[0].block_samples, 256.0);
+    assert!((k[0].worst_block_instructions - (230_000.0 - 344.0) / 171.86).abs() < 1e-9);
     assert!(k[0].bit_exact);
     assert_eq!(k[0].cycles_per_sample, None); // QEMU: CYCCNT reads 0
     let other = [("baseline", 1)];
@@ -24,9 +27,20 @@ fn parser_reads_instructions_and_compares_checksums() {
 #[test]
 fn parser_rejects_malformed_output() {
     let host = [("baseline", 0)];
-    assert!(parse_target("kernel baseline 3072 12 1 00 0\n", &host).is_err()); // no calib
+    assert!(parse_target("kernel baseline 3072 12 1 00 0 1\n", &host).is_err()); // no calib
     assert!(parse_target("calib 1 x\n", &host).is_err());
-    assert!(parse_target("calib 344 172204\nkernel baseline 3072 12 1 zz 0\n", &host).is_err());
+    assert!(parse_target(
+        "calib 344 172204\nkernel baseline 3072 12 1 zz 0 1\n",
+        &host
+    )
+    .is_err());
+    // The old seven-field line (no worst block) is not this harness's.
+    assert!(parse_target("calib 344 172204\nkernel baseline 3072 12 1 00 0\n", &host).is_err());
+    assert!(parse_target(
+        "calib 344 172204\nkernel baseline 3072 12 1 00 0 x\n",
+        &host
+    )
+    .is_err());
     assert!(parse_target("calib 344 172204\n", &host).is_err()); // kernels missing
 }
 
@@ -40,8 +54,8 @@ fn host_checksums_are_distinct_and_see_one_changed_code() {
     }
     let mut codes = trace(BLOCK * 4);
     let base = checksums_of(&codes);
-    // +64 codes: the tracker kernel scales its input down 32x, so a smaller step could vanish
-    // in its integer division before any arithmetic saw it.
+    // +64 codes, at sample 868: inside the device kernels' stroke (at rest drift control
+    // rightly moves nothing, and their noise is the code modulo 3).
     codes[BLOCK * 3 + 100] += 64;
     for ((name, was), (_, now)) in base.iter().zip(checksums_of(&codes)) {
         assert_ne!(

@@ -21,8 +21,8 @@ use std::time::Instant;
 
 use dsp_process::SplitProcess;
 use imu_core::bench::kernels::{
-    self, Baseline, F32Stage, IntegratorStage, Kernel, LowpassStage, NarrowStage, PipelineAxis,
-    ReadoutStage, TrackerDrift,
+    self, Baseline, DevicePath, F32Stage, IntegratorStage, Kernel, LowpassStage, NarrowStage,
+    PipelineAxis, ReadoutStage,
 };
 use imu_core::bench::testsignal::{Checksum, Trace};
 use imu_core::bench::variants::{F32Pipeline, NarrowPipeline};
@@ -98,7 +98,8 @@ pub fn kernels() -> Vec<(&'static str, Box<dyn Kernel>)> {
         ("readout", Box::new(ReadoutStage::default())),
         ("f32_pipeline", Box::new(F32Stage::default())),
         ("narrow_pipeline", Box::new(NarrowStage::default())),
-        ("tracker_drift", Box::new(TrackerDrift::default())),
+        ("device_3khz", Box::new(DevicePath::new(3000))),
+        ("device_20khz", Box::new(DevicePath::new(20_000))),
     ]
 }
 
@@ -141,6 +142,10 @@ pub struct TargetKernel {
     pub bit_exact: bool,
     /// DWT cycles per sample: measured on a board, `None` in QEMU (its CYCCNT reads 0).
     pub cycles_per_sample: Option<f64>,
+    /// Samples per timed block (a DMA block for the `device_*` kernels).
+    pub block_samples: f64,
+    /// Instructions of the costliest timed block, net of the empty timed region.
+    pub worst_block_instructions: f64,
 }
 
 /// Why the target measurement could not run.
@@ -232,6 +237,7 @@ pub fn run_target(workspace: &Path) -> Result<Vec<TargetKernel>, SpeedError> {
 /// A message naming the malformed line.
 pub fn parse_target(text: &str, host: &[(&str, u64)]) -> Result<Vec<TargetKernel>, String> {
     let mut per_instr = None;
+    let mut empty = 0.0;
     let mut out = vec![];
     for line in text.lines() {
         let f: Vec<&str> = line.split_whitespace().collect();
@@ -244,8 +250,9 @@ pub fn parse_target(text: &str, host: &[(&str, u64)]) -> Result<Vec<TargetKernel
                     .parse()
                     .map_err(|_| format!("bad calib line `{line}`"))?;
                 per_instr = Some((n - e) / 1000.0);
+                empty = e;
             }
-            Some(&"kernel") if f.len() == 7 => {
+            Some(&"kernel") if f.len() == 8 => {
                 let r = per_instr.ok_or("kernel line before the calib line")?;
                 let samples: f64 = f[2]
                     .parse()
@@ -259,12 +266,22 @@ pub fn parse_target(text: &str, host: &[(&str, u64)]) -> Result<Vec<TargetKernel
                 let cycles: f64 = f[6]
                     .parse()
                     .map_err(|_| format!("bad cycle count in `{line}`"))?;
+                let blocks: f64 = f[3]
+                    .parse()
+                    .map_err(|_| format!("bad kernel line `{line}`"))?;
+                let most: f64 = f[7]
+                    .parse()
+                    .map_err(|_| format!("bad kernel line `{line}`"))?;
                 out.push(TargetKernel {
                     name: f[1].to_string(),
-                    instructions_per_sample: ticks / r / samples,
+                    // Net of the empty timed region (the call and the SysTick reads) per
+                    // block: it matters for the device kernels' blocks of 3 and 20.
+                    instructions_per_sample: (ticks - blocks * empty) / r / samples,
                     checksum: f[5].to_string(),
                     bit_exact,
                     cycles_per_sample: (cycles > 0.0).then(|| cycles / samples),
+                    block_samples: samples / blocks,
+                    worst_block_instructions: (most - empty) / r,
                 });
             }
             _ => {}
@@ -502,13 +519,60 @@ pub struct Config {
     pub err_over_sensor_noise: std::collections::BTreeMap<String, Option<f64>>,
 }
 
+/// The device-path kernels and their sampling rates [Hz].
+pub const DEVICE_KERNELS: [(&str, u32); 2] = [("device_3khz", 3000), ("device_20khz", 20_000)];
+/// The core clock [Hz] the shares are taken of (`firmware/src/board.rs`).
+pub const CORE_HZ: f64 = 96e6;
+
+/// The device's sample path at one rate, as measured in QEMU.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DeviceRow {
+    /// Sampling rate [Hz].
+    pub fs_hz: u32,
+    /// Sample triples per DMA block.
+    pub block: f64,
+    /// Instructions per sample triple, mean over the trace (rest, strokes, clicks).
+    pub instructions_per_triple: f64,
+    /// Instructions of the costliest DMA block.
+    pub worst_block_instructions: f64,
+    /// A block's deadline in core clock cycles (its duration at 96 MHz).
+    pub deadline_cycles: f64,
+    /// Mean share of the core, `instructions_per_triple * fs / 96 MHz` (instructions count
+    /// at least one cycle each: a lower bound).
+    pub cpu_share: f64,
+    /// The worst block's share of its deadline (a lower bound, as above).
+    pub worst_block_share: f64,
+}
+
+/// The device rows of the target's kernels.
+pub fn device_rows(t: &[TargetKernel]) -> Vec<DeviceRow> {
+    DEVICE_KERNELS
+        .iter()
+        .filter_map(|&(name, fs)| {
+            let k = t.iter().find(|k| k.name == name)?;
+            let deadline = k.block_samples / f64::from(fs) * CORE_HZ;
+            Some(DeviceRow {
+                fs_hz: fs,
+                block: k.block_samples,
+                instructions_per_triple: k.instructions_per_sample,
+                worst_block_instructions: k.worst_block_instructions,
+                deadline_cycles: deadline,
+                cpu_share: k.instructions_per_sample * f64::from(fs) / CORE_HZ,
+                worst_block_share: k.worst_block_instructions / deadline,
+            })
+        })
+        .collect()
+}
+
 /// The target part of the report.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Target {
     /// The emulated machine.
     pub machine: &'static str,
-    /// Instructions per sample of every kernel.
+    /// Instructions per sample of every kernel (per sample triple for `device_*`).
     pub instructions_per_sample: std::collections::BTreeMap<String, f64>,
+    /// The device's sample path at 3 kHz and at 20 kHz.
+    pub device: Vec<DeviceRow>,
     /// Whether every checksum matched the host's.
     pub bit_exact: bool,
 }
@@ -564,6 +628,7 @@ pub fn report(target: Option<Vec<TargetKernel>>, trials: u64, max_t_s: f64) -> R
         target: target.map(|t| Target {
             machine: "qemu-system-arm netduinoplus2 (Cortex-M4F), -icount shift=10",
             bit_exact: t.iter().all(|k| k.bit_exact),
+            device: device_rows(&t),
             instructions_per_sample: t
                 .into_iter()
                 .map(|k| (k.name, k.instructions_per_sample))
@@ -652,6 +717,22 @@ pub fn table(r: &Report) -> String {
             .unwrap_or(0.0);
         for (k, v) in &t.instructions_per_sample {
             out += &format!("  {k:<26} {v:>7.1} instructions/sample  ({:>6.1} net of the {base:.1}-instruction loop)\n", v - base);
+        }
+        out += "\nthe device's sample path (Tracker::feed as the firmware runs it: drift control, 3 axes,\n\
+                one DMA block per call, counts taken per block; rest, strokes and a click):\n";
+        for d in &t.device {
+            out += &format!(
+                "  {:>5} Hz, {:>2.0} triples/block: {:>7.1} instructions per triple ({:.1} per axis-sample); \
+                 CPU >= {:.1} %; worst block {:.0} of {:.0} cycles (>= {:.1} % of its deadline)\n",
+                d.fs_hz,
+                d.block,
+                d.instructions_per_triple,
+                d.instructions_per_triple / 3.0,
+                100.0 * d.cpu_share,
+                d.worst_block_instructions,
+                d.deadline_cycles,
+                100.0 * d.worst_block_share
+            );
         }
     }
     out += &format!(
