@@ -21,6 +21,11 @@
 pub struct Readout {
     mult: u32,
     shift: u32,
+    /// `2^(P-1)`: the rounding offset, precomputed (a variable 128-bit shift is tens of
+    /// instructions on a 32-bit core).
+    half: i128,
+    /// `2^P - 1`: the remainder's mask, precomputed likewise.
+    mask: i128,
 }
 
 /// The carried remainder of one axis's read-out, in Q`P` counts.
@@ -59,6 +64,8 @@ impl Readout {
         Some(Self {
             mult: mult as u32,
             shift,
+            half: 1 << (shift - 1),
+            mask: (1 << shift) - 1,
         })
     }
 
@@ -92,8 +99,24 @@ impl Readout {
             }
             Err(_) => z.saturating_mul(i128::from(self.mult)),
         };
+        // The usual case: carry and product below 2^94 in magnitude (so `u = x + 2^(P-1)`,
+        // with `2^(P-1) <= 2^93`, is below 2^96: no saturation), `P > 32`, and a count that
+        // fits `i32` (no clamp). Then `n = floor(u / 2^P) = floor(floor(u / 2^33) / 2^(P-33))`,
+        // where `u >> 33` fits `i64` (below 2^63): a fixed 128-bit shift and a 64-bit one
+        // instead of variable 128-bit shifts; and
+        // `carry' = x - n 2^P = u - 2^(P-1) - (u - (u mod 2^P)) = (u & (2^P - 1)) - 2^(P-1)`.
+        // The same values as the general path below.
+        let below_2_94 = |v: i128| (v >> 94) == (v >> 127);
+        if self.shift > 32 && below_2_94(state.carry) && below_2_94(zm) {
+            let u = state.carry + zm + self.half;
+            let n = ((u >> 33) as i64) >> (self.shift - 33);
+            if let Ok(n) = i32::try_from(n) {
+                state.carry = (u & self.mask) - self.half;
+                return n;
+            }
+        }
         let x = state.carry.saturating_add(zm);
-        let n_full = x.saturating_add(1 << (self.shift - 1)) >> self.shift;
+        let n_full = x.saturating_add(self.half) >> self.shift;
         let n = n_full.clamp(i128::from(i32::MIN), i128::from(i32::MAX));
         // |n 2^P| <= 2^125 and n has the sign of x with |n 2^P| <= |x| + 2^(P-1): exact.
         state.carry = x - (n << self.shift);
@@ -191,5 +214,98 @@ mod tests {
         assert_eq!(r.take(&mut s, 0), i32::MAX);
         assert_eq!(r.take(&mut s, 0), i32::MAX);
         assert_eq!(r.take(&mut s, 0), 0);
+    }
+
+    /// The definition, in plain saturating 128-bit arithmetic: what `take` must compute.
+    fn reference(r: &Readout, carry: i128, z: i128) -> (i32, i128) {
+        let x = carry.saturating_add(z.saturating_mul(i128::from(r.mult())));
+        let n = (x.saturating_add(1 << (r.shift() - 1)) >> r.shift())
+            .clamp(i128::from(i32::MIN), i128::from(i32::MAX));
+        (n as i32, x - (n << r.shift()))
+    }
+
+    /// SplitMix64.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        }
+        /// A signed value of about `bits` bits (`0..=126`).
+        fn wide(&mut self, bits: u32) -> i128 {
+            let m = (i128::from(self.next() >> 1) << 64 | i128::from(self.next()))
+                >> (126 - bits.min(126));
+            if self.next() & 1 == 0 {
+                m
+            } else {
+                -m
+            }
+        }
+    }
+
+    #[test]
+    fn every_path_equals_the_definition_at_every_shift() {
+        // Shifts from 1 to 94 (both sides of the fast path's P > 32), carries and positions
+        // of every magnitude (both sides of its 2^94 bound), counts in and beyond i32.
+        let mut rng = Rng(0x5EED);
+        let (mut fast, mut slow) = (0, 0);
+        for i in 0..200_000u32 {
+            let mantissa = 1.0 + (rng.next() % 1000) as f64 / 1000.0;
+            let exponent = (rng.next() % 94) as i32 - 63;
+            let Some(r) = Readout::from_ratio(crate::math::ldexp(mantissa, exponent)) else {
+                continue;
+            };
+            let carry_bits = if i % 4 == 0 {
+                (rng.next() % 127) as u32
+            } else {
+                r.shift() - 1
+            };
+            let carry = rng.wide(carry_bits);
+            let z_bits = (rng.next() % 100) as u32;
+            let z = rng.wide(z_bits);
+            let mut st = ReadoutState { carry };
+            let got = r.take(&mut st, z);
+            let want = reference(&r, carry, z);
+            assert_eq!((got, st.carry), want, "P {} carry {carry} z {z}", r.shift());
+            let small = |v: i128| (v >> 94) == (v >> 127);
+            let zm = z.saturating_mul(i128::from(r.mult()));
+            let fits = |v: i128| (i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&v);
+            if r.shift() > 32
+                && small(carry)
+                && small(zm)
+                && fits((carry + zm + (1 << (r.shift() - 1))) >> r.shift())
+            {
+                fast += 1;
+            } else {
+                slow += 1;
+            }
+        }
+        // Both paths ran many times.
+        assert!(fast > 10_000 && slow > 10_000, "{fast} fast, {slow} slow");
+    }
+
+    #[test]
+    fn the_fast_path_bounds_hold_at_their_edges() {
+        // P = 33 (the fast path's smallest shift) and P = 32 (the general path's largest),
+        // with carries and products just inside and outside 2^94.
+        for shift_ratio in [-2, -1, 0, 1] {
+            let r = Readout::from_ratio(crate::math::ldexp(1.5, shift_ratio)).expect("in range");
+            for carry in [
+                (1i128 << 94) - 1,
+                -(1i128 << 94),
+                1i128 << 94,
+                -(1i128 << 94) - 1,
+                0,
+            ] {
+                for z in [0i128, 1, -1, 1 << 62, -(1 << 62), i128::from(i64::MAX)] {
+                    let mut st = ReadoutState { carry };
+                    let got = r.take(&mut st, z);
+                    assert_eq!((got, st.carry), reference(&r, carry, z), "P {}", r.shift());
+                }
+            }
+        }
     }
 }
