@@ -20,8 +20,14 @@
 //! Integer sums are exact: the integrator adds no error at all.
 //!
 //! # Ranges
-//! `W` is `i64`, `Z` is `i128`, both saturating (a wrap would be a cursor jump to the other
-//! side of the screen). With a full-scale 12-bit input held constant (`|c| < 2^28`), `W`
+//! `W` is `i64`, saturating (a wrap would be a cursor jump to the other side of the screen).
+//! `Z` is `i128`: per sample it grows by at most `2 |W| <= 2^64` (Euler; `|W[n-1] + W[n]|`
+//! for the trapezoid), so leaving `i128` needs more than `2^63` samples without a read-out
+//! (which drains it): three million years at 100 kHz. The per-sample step therefore adds
+//! without a saturation check (tests run with overflow checks on); the block step, whose
+//! terms are larger, keeps its saturating adds.
+//!
+//! With a full-scale 12-bit input held constant (`|c| < 2^28`), `W`
 //! stays below `2^29 N` and `Z` below `2^29 N^2`: at 100 kHz for 24 h (`N = 8.64e9`) that is
 //! `2^62.0` and `2^95.1`, so nothing saturates in any documented run. 16-bit codes at full
 //! scale (`|c| < 2^32`) reach the `i64` limit of `W` after `N = 2^30` samples.
@@ -179,12 +185,12 @@ impl Scheme {
         match self {
             Self::Euler => {
                 state.w = state.w.saturating_add(2 * c);
-                state.z = state.z.saturating_add(2 * i128::from(state.w));
+                state.z += 2 * i128::from(state.w); // headroom: see the module docs
             }
             Self::Trapezoid => {
                 if state.primed {
                     let w = state.w.saturating_add(state.prev + c);
-                    state.z = state.z.saturating_add(i128::from(state.w) + i128::from(w));
+                    state.z += i128::from(state.w) + i128::from(w); // headroom: module docs
                     state.w = w;
                 } else {
                     state.primed = true;
@@ -261,20 +267,35 @@ mod tests {
     }
 
     #[test]
-    fn saturates_instead_of_wrapping() {
+    fn velocity_saturates_instead_of_wrapping_and_position_takes_it_whole() {
+        // The velocity saturates; the position, whose headroom is 2^63 samples at the
+        // saturated velocity (module docs), adds it exactly.
         let mut s = IntegratorState {
             w: i64::MAX - 1,
-            z: i128::MAX - 1,
             ..Default::default()
         };
         Scheme::Euler.step(&mut s, 1 << 32);
-        assert_eq!((s.velocity(), s.position()), (i64::MAX, i128::MAX));
+        assert_eq!(
+            (s.velocity(), s.position()),
+            (i64::MAX, 2 * i128::from(i64::MAX))
+        );
         let mut s = IntegratorState {
             w: i64::MIN + 1,
-            z: i128::MIN + 1,
             ..Default::default()
         };
         Scheme::Euler.step(&mut s, -(1 << 32));
-        assert_eq!((s.velocity(), s.position()), (i64::MIN, i128::MIN));
+        assert_eq!(
+            (s.velocity(), s.position()),
+            (i64::MIN, 2 * i128::from(i64::MIN))
+        );
+        let mut s = IntegratorState {
+            w: i64::MAX - 1,
+            prev: 1 << 32,
+            primed: true,
+            ..Default::default()
+        };
+        Scheme::Trapezoid.step(&mut s, 1 << 32);
+        let want = i128::from(i64::MAX - 1) + i128::from(i64::MAX);
+        assert_eq!((s.velocity(), s.position()), (i64::MAX, want));
     }
 }
