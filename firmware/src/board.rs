@@ -32,8 +32,8 @@
 //! sector erase stalls every flash fetch, so the CPU, for its whole duration, and the erase
 //! time grows with the sector: hundreds of milliseconds for 16 KiB, seconds for 128 KiB
 //! (DS10314's flash characteristics, at the x8 parallelism the HAL uses; not measured here,
-//! no board). An erase happens only when the store moves to its other page, about once in
-//! 60 saves (a record is 254 bytes).
+//! no board). An erase happens only when the store moves to its other page, once in
+//! 62 saves (a record is 245 bytes, 256 in the map with its header).
 
 use stm32f4xx_hal::adc::config::{Clock as AdcClock, SampleTime};
 
