@@ -199,6 +199,11 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
                 self.inbox = Some((frame, n));
             }
         }
+        self.flush_outbox();
+    }
+
+    /// Pushes the oldest waiting response if the endpoint takes it.
+    fn flush_outbox(&mut self) {
         if let Some(frame) = self.outbox.front() {
             if self.port.push_raw_input(frame).is_ok() {
                 self.outbox.pop_front();
@@ -217,11 +222,7 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
     /// that waits for each answer never causes.
     pub fn respond(&mut self, frame: Frame) -> bool {
         let queued = self.outbox.push_back(frame).is_ok();
-        if let Some(f) = self.outbox.front() {
-            if self.port.push_raw_input(f).is_ok() {
-                self.outbox.pop_front();
-            }
-        }
+        self.flush_outbox();
         queued
     }
 

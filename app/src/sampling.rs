@@ -60,12 +60,12 @@ pub fn on_block(
         return None;
     }
     let lost = match delivery {
-        Delivery::Late(lost) => lost,
-        Delivery::OnTime => 0,
+        Delivery::Late(lost) => Some(lost),
+        Delivery::OnTime => None,
     };
-    stream.lock(|s| s.push(block, lost));
+    stream.lock(|s| s.push(block, lost.unwrap_or(0)));
     let event = tracker.lock(|t| {
-        if let Delivery::Late(lost) = delivery {
+        if let Some(lost) = lost {
             t.lost(lost);
         }
         let mut event = None;

@@ -1,6 +1,7 @@
 //! The configuration protocol and the stored profile record: every request and response
 //! through its bytes and back, every error, malformed, truncated and foreign frames.
 
+use imu_core::bench::testsignal::Trace;
 use imu_core::profile::{AxisMap, Key, Kind, Profile, ProfileError, RecordError, RECORD_LEN};
 use imu_core::protocol::{
     code, header, AxisCalibration, Counters, ErrorCode, FrameError, Info, Request, Response,
@@ -233,18 +234,9 @@ fn payloads_that_do_not_match_their_code_are_refused() {
     assert_eq!(Response::decode(&f), Err(FrameError::Payload));
 }
 
-/// SplitMix64: random bytes without a dependency.
-fn next(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
 #[test]
 fn random_and_mutated_frames_never_panic() {
-    let mut s = 7u64;
+    let mut s = Trace::new(7);
     let seeds: Vec<[u8; FRAME_LEN]> = requests()
         .iter()
         .map(|r| r.encode(1))
@@ -254,14 +246,14 @@ fn random_and_mutated_frames_never_panic() {
     for i in 0..200_000 {
         let mut f = seeds[i % seeds.len()];
         // Flip one to four bytes; keep the version right half the time so decoding goes deep.
-        for _ in 0..1 + next(&mut s) % 4 {
-            let at = (next(&mut s) % 12) as usize;
-            f[at] = next(&mut s) as u8;
+        for _ in 0..1 + s.next_u64() % 4 {
+            let at = (s.next_u64() % 12) as usize;
+            f[at] = s.next_u64() as u8;
         }
         if i % 2 == 0 {
             f[0] = VERSION;
         }
-        let len = (next(&mut s) % (FRAME_LEN as u64 + 1)) as usize;
+        let len = (s.next_u64() % (FRAME_LEN as u64 + 1)) as usize;
         decoded += usize::from(Request::decode(&f[..len]).is_ok());
         decoded += usize::from(Response::decode(&f[..len]).is_ok());
         let _ = StreamFrame::decode(&f[..len]);
@@ -278,9 +270,9 @@ fn stream_frames_carry_codes_exactly_both_packings() {
         (true, 9, u16::MAX),
         (true, 1, u16::MAX),
     ] {
-        let mut s = 3u64;
+        let mut s = Trace::new(3);
         let triples: heapless::Vec<[u16; 3], 12> = (0..n)
-            .map(|_| [0; 3].map(|_: u16| (next(&mut s) % (u64::from(max) + 1)) as u16))
+            .map(|_| [0; 3].map(|_: u16| (s.next_u64() % (u64::from(max) + 1)) as u16))
             .collect();
         let f = StreamFrame {
             seq: 65_535,

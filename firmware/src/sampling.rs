@@ -244,11 +244,6 @@ impl Sampler {
         self.trigger.cr1().modify(|_, w| w.cen().set_bit());
     }
 
-    /// Restarts the sampling if no block has arrived for [`STALL_BLOCKS`] block periods.
-    pub fn check_stalled(&mut self) -> Outcome {
-        self.check_stall(STALL_BLOCKS * self.block as u32)
-    }
-
     /// Handles the DMA interrupt: a full block goes to `take` as `[x, y, z]` triples with
     /// the ledger's verdict; an unfilled buffer is dropped; a DMA overrun restarts sampling.
     pub fn on_dma(&mut self, take: impl FnOnce(&[[u16; 3]], Delivery)) -> Outcome {
@@ -280,11 +275,11 @@ impl Sampler {
         }
     }
 
-    /// Restarts the sampling if no block has arrived for `max_samples` sample periods (or
-    /// none since the start or the last restart).
-    fn check_stall(&mut self, max_samples: u32) -> Outcome {
+    /// Restarts the sampling if no block has arrived for [`STALL_BLOCKS`] block periods at
+    /// the running rate (or none since the start or the last restart).
+    pub fn check_stalled(&mut self) -> Outcome {
         let now = self.clock.now();
-        if self.ledger.stalled(now, max_samples) {
+        if self.ledger.stalled(now, STALL_BLOCKS * self.block as u32) {
             self.restart(now)
         } else {
             Outcome::Idle

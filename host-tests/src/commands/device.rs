@@ -112,13 +112,8 @@ pub fn parse_pair(pair: &str) -> Result<(Key, f64), Error> {
     })?;
     let v = v.trim();
     let value = match (key.kind(), v) {
-        (Kind::Optional | Kind::Flag, "off") => {
-            if key.kind() == Kind::Flag {
-                0.0
-            } else {
-                f64::NAN
-            }
-        }
+        (Kind::Optional, "off") => f64::NAN,
+        (Kind::Flag, "off") => 0.0,
         (Kind::Flag, "on") => 1.0,
         (Kind::Integer { .. }, _) if key == Key::Scheme && v == "euler" => 0.0,
         (Kind::Integer { .. }, _) if key == Key::Scheme && v == "trapezoid" => 1.0,

@@ -207,6 +207,13 @@ pub fn run(
     let mut store =
         Store::new(flash, 0..CAPACITY as u32).map_err(|e| TwinError::Store(format!("{e:?}")))?;
     let loaded = device::runnable(store.load(), CLOCK_HZ);
+    if !matches!(loaded.source, Source::Stored | Source::Defaults) {
+        eprintln!(
+            "twin: the stored profile was not used ({:?}{}); defaults",
+            loaded.source,
+            loaded.invalid.map(|k| format!(", {k}")).unwrap_or_default()
+        );
+    }
     let bus = UsbIpBus::new(s.addr, listing()).map_err(|source| TwinError::Listen {
         addr: s.addr,
         source,
@@ -312,26 +319,33 @@ pub fn run(
         per_ms.push(mouse.reports().reporter().reports().wrapping_sub(before));
         ms += 1;
     }
-    let mut summary = summary(
+    let end = End {
+        played,
+        source: loaded.source,
+        final_fs_hz: commands.running().config.fs_hz,
+        stream_frames: stream.totals().0,
+    };
+    Ok(summary(
         input,
         &mouse,
         monitor.traffic(),
         produced,
         &per_ms,
         late_ticks,
-    );
-    summary.scene_s = played as f64 / f64::from(input.fs_hz);
-    summary.profile_source = format!("{:?}", loaded.source);
-    summary.final_fs_hz = commands.running().config.fs_hz;
-    summary.stream_frames = stream.totals().0;
-    if loaded.source != Source::Stored && loaded.source != Source::Defaults {
-        eprintln!(
-            "twin: the stored profile was not used ({:?}{}); defaults",
-            loaded.source,
-            loaded.invalid.map(|k| format!(", {k}")).unwrap_or_default()
-        );
-    }
-    Ok(summary)
+        &end,
+    ))
+}
+
+/// How the run ended, beyond the mouse's accounts.
+struct End {
+    /// Scene samples played.
+    played: usize,
+    /// Where the profile came from at start-up.
+    source: Source,
+    /// The sampling rate at the end [Hz].
+    final_fs_hz: u32,
+    /// Raw stream frames sent.
+    stream_frames: u32,
 }
 
 fn summary(
@@ -341,6 +355,7 @@ fn summary(
     produced: [i64; 2],
     per_ms: &[u32],
     late_ticks: u32,
+    end: &End,
 ) -> Summary {
     let r = mouse.reports().reporter();
     let (sent, discarded, owed) = (r.sent_total(), r.discarded(), r.undelivered());
@@ -351,7 +366,7 @@ fn summary(
         .unwrap_or(0);
     Summary {
         fs_hz: input.fs_hz,
-        scene_s: 0.0,
+        scene_s: end.played as f64 / f64::from(input.fs_hz),
         produced,
         sent: [sent.0, sent.1],
         discarded: [discarded.0, discarded.1],
@@ -365,8 +380,8 @@ fn summary(
         late_ticks,
         accounted: sent.0 + discarded.0 + owed.0 == produced[0]
             && sent.1 + discarded.1 + owed.1 == produced[1],
-        profile_source: String::new(),
-        final_fs_hz: input.fs_hz,
-        stream_frames: 0,
+        profile_source: format!("{:?}", end.source),
+        final_fs_hz: end.final_fs_hz,
+        stream_frames: end.stream_frames,
     }
 }

@@ -166,11 +166,12 @@ impl UsbIpHost {
             if s == seq {
                 return Ok((status, data));
             }
-            self.take_in(s, status, data)?;
+            self.take_in(s, status, data);
         }
     }
 
-    fn take_in(&mut self, seq: u32, status: i32, data: Vec<u8>) -> Result<(), UsbIpError> {
+    /// Keeps the data of a completed interrupt IN URB as a frame (other replies are dropped).
+    fn take_in(&mut self, seq: u32, status: i32, data: Vec<u8>) {
         if let Some(i) = self.pending_in.iter().position(|&p| p == seq) {
             self.pending_in.remove(i);
             if status == 0 && !data.is_empty() {
@@ -180,7 +181,6 @@ impl UsbIpHost {
                 self.frames.push_back(f);
             }
         }
-        Ok(())
     }
 
     /// A control transfer: `setup`, OUT `data` or `in_len` bytes IN. Returns the IN data.
@@ -301,7 +301,7 @@ impl UsbIpHost {
                 Ok(_) => {
                     self.tcp.set_read_timeout(Some(self.timeout))?;
                     let (s, status, data) = self.reply()?;
-                    self.take_in(s, status, data)?;
+                    self.take_in(s, status, data);
                 }
                 Err(e)
                     if matches!(
