@@ -15,17 +15,27 @@
 //! displacement `sum Z * M / 2^P` rounded to the nearest count: the cursor never drifts from
 //! the integrator by even one count, however often it is read. `n` is clamped to `i32`; what
 //! the clamp leaves stays in the carry and comes out in later read-outs.
+//!
+//! # Cost on a 32-bit core
+//! The definition is 128-bit arithmetic with shifts by a variable `P`: about 125
+//! instructions on a Cortex-M4. The read-outs a device makes (`33 <= P <= 93`, a position
+//! below `2^62` and a carry below `2^93` in magnitude, a count that fits `i32`; every rate and
+//! scale the configuration accepts gives `P` in 34..=81) take a path of 64-bit pieces
+//! instead ([`Readout::take`] shows why it is the same arithmetic); the rest take the
+//! definition.
 
 /// Position-to-counts scale `K = M / 2^P` (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Readout {
     mult: u32,
     shift: u32,
-    /// `2^(P-1)`: the rounding offset, precomputed (a variable 128-bit shift is tens of
-    /// instructions on a 32-bit core).
-    half: i128,
-    /// `2^P - 1`: the remainder's mask, precomputed likewise.
-    mask: i128,
+    /// `P - 32`, the shift of the carry's upper part, for `33 <= P <= 93`; 0 otherwise
+    /// (every read-out then takes the definition).
+    shift_hi: u32,
+    /// `2^(P-33)`: the rounding offset `2^(P-1)` over `2^32` (0 unless `shift_hi > 0`).
+    half_hi: i64,
+    /// `2^(P-32) - 1`: the mask of the upper part of a remainder below `2^P`.
+    mask_hi: i64,
 }
 
 /// The carried remainder of one axis's read-out, in Q`P` counts.
@@ -61,11 +71,17 @@ impl Readout {
         if shift == 0 {
             return None;
         }
+        let shift_hi = if (33..=93).contains(&shift) {
+            shift - 32
+        } else {
+            0
+        };
         Some(Self {
             mult: mult as u32,
             shift,
-            half: 1 << (shift - 1),
-            mask: (1 << shift) - 1,
+            shift_hi,
+            half_hi: if shift_hi > 0 { 1 << (shift_hi - 1) } else { 0 },
+            mask_hi: (1 << shift_hi) - 1,
         })
     }
 
@@ -87,36 +103,53 @@ impl Readout {
     /// Converts the position `z` drained from an integrator into whole counts, carrying the
     /// remainder in `state`. Saturates (never wraps) if `carry + z M` leaves `i128`, which no
     /// documented run reaches.
+    ///
+    /// The usual read-out, with `33 <= P <= 93`, `|z| < 2^62` and `|carry| < 2^93`, is
+    /// computed in 64-bit pieces. Split `z = h 2^32 + l` (`|h| <= 2^30`, `l < 2^32`) and the
+    /// carry `c = c_hi 2^32 + c_lo` (`c_lo < 2^32`). Then
+    /// `u = c + z M + 2^(P-1) = u_hi 2^32 + u_lo` with
+    ///
+    /// ```text
+    /// a = l M (< 2^64),  u_lo = (c_lo + a) mod 2^32,
+    /// u_hi = c_hi + h M + floor((c_lo + a) / 2^32) + 2^(P-33)
+    /// ```
+    ///
+    /// where `|c_hi| <= 2^61`, `|h M| < 2^62` and the other two terms are below `2^61`, so
+    /// `u_hi` is exact in `i64`. The count is `n = floor(u / 2^P) = u_hi >> (P - 32)` and the
+    /// new carry `u mod 2^P - 2^(P-1) = ((u_hi & (2^(P-32) - 1)) - 2^(P-33)) 2^32 + u_lo`:
+    /// one 64-bit variable shift where the definition needs several 128-bit ones. If `n`
+    /// does not fit `i32` (the clamp), the definition takes over. Tested against the
+    /// definition on both sides of every bound.
+    #[inline]
     pub fn take(&self, state: &mut ReadoutState, z: i128) -> i32 {
-        let zm = match i64::try_from(z) {
-            // The usual case (a read-out every millisecond drains small positions): two
-            // 32x32->64 products instead of a checked 128-bit multiply. With z = h 2^32 + l,
-            // |h| < 2^31 and l < 2^32: |h M| < 2^63 and l M < 2^64, so both are exact.
-            Ok(z) => {
-                let hi = (z >> 32) * i64::from(self.mult);
-                let lo = u64::from(z as u32) * u64::from(self.mult);
-                (i128::from(hi) << 32) + i128::from(lo)
-            }
-            Err(_) => z.saturating_mul(i128::from(self.mult)),
-        };
-        // The usual case: carry and product below 2^94 in magnitude (so `u = x + 2^(P-1)`,
-        // with `2^(P-1) <= 2^93`, is below 2^96: no saturation), `P > 32`, and a count that
-        // fits `i32` (no clamp). Then `n = floor(u / 2^P) = floor(floor(u / 2^33) / 2^(P-33))`,
-        // where `u >> 33` fits `i64` (below 2^63): a fixed 128-bit shift and a 64-bit one
-        // instead of variable 128-bit shifts; and
-        // `carry' = x - n 2^P = u - 2^(P-1) - (u - (u mod 2^P)) = (u & (2^P - 1)) - 2^(P-1)`.
-        // The same values as the general path below.
-        let below_2_94 = |v: i128| (v >> 94) == (v >> 127);
-        if self.shift > 32 && below_2_94(state.carry) && below_2_94(zm) {
-            let u = state.carry + zm + self.half;
-            let n = ((u >> 33) as i64) >> (self.shift - 33);
-            if let Ok(n) = i32::try_from(n) {
-                state.carry = (u & self.mask) - self.half;
+        let below = |v: i128, bits: u32| (v >> bits) == (v >> 127);
+        if self.shift_hi > 0 && below(z, 62) && below(state.carry, 93) {
+            let c = state.carry;
+            let m = u64::from(self.mult);
+            let a = u64::from(z as u32) * m;
+            let (lo, over) = (c as u32).overflowing_add(a as u32);
+            // h = z >> 32 fits i32 (|z| < 2^62).
+            let u_hi = (c >> 32) as i64
+                + i64::from((z >> 32) as i32) * m as i64
+                + (a >> 32) as i64
+                + i64::from(over)
+                + self.half_hi;
+            if let Ok(n) = i32::try_from(u_hi >> self.shift_hi) {
+                let hi = (u_hi & self.mask_hi) - self.half_hi;
+                state.carry = (i128::from(hi) << 32) | i128::from(lo);
                 return n;
             }
         }
+        self.take_exactly(state, z)
+    }
+
+    /// [`Self::take`] by its definition, in saturating 128-bit arithmetic.
+    #[cold]
+    #[inline(never)]
+    fn take_exactly(&self, state: &mut ReadoutState, z: i128) -> i32 {
+        let zm = z.saturating_mul(i128::from(self.mult));
         let x = state.carry.saturating_add(zm);
-        let n_full = x.saturating_add(self.half) >> self.shift;
+        let n_full = x.saturating_add(1 << (self.shift - 1)) >> self.shift;
         let n = n_full.clamp(i128::from(i32::MIN), i128::from(i32::MAX));
         // |n 2^P| <= 2^125 and n has the sign of x with |n 2^P| <= |x| + 2^(P-1): exact.
         state.carry = x - (n << self.shift);
@@ -266,12 +299,12 @@ mod tests {
             let got = r.take(&mut st, z);
             let want = reference(&r, carry, z);
             assert_eq!((got, st.carry), want, "P {} carry {carry} z {z}", r.shift());
-            let small = |v: i128| (v >> 94) == (v >> 127);
+            let small = |v: i128, bits: u32| (v >> bits) == (v >> 127);
             let zm = z.saturating_mul(i128::from(r.mult()));
             let fits = |v: i128| (i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&v);
-            if r.shift() > 32
-                && small(carry)
-                && small(zm)
+            if (33..=93).contains(&r.shift())
+                && small(carry, 93)
+                && small(z, 62)
                 && fits((carry + zm + (1 << (r.shift() - 1))) >> r.shift())
             {
                 fast += 1;
@@ -285,21 +318,35 @@ mod tests {
 
     #[test]
     fn the_fast_path_bounds_hold_at_their_edges() {
-        // P = 33 (the fast path's smallest shift) and P = 32 (the general path's largest),
-        // with carries and products just inside and outside 2^94.
-        for shift_ratio in [-2, -1, 0, 1] {
-            let r = Readout::from_ratio(crate::math::ldexp(1.5, shift_ratio)).expect("in range");
+        // P = 32 and 33 (below and at the fast path's smallest shift), P = 93 and 94 (at and
+        // beyond its largest), with carries just inside and outside 2^93, positions just
+        // inside and outside 2^62, and counts at and beyond the ends of i32.
+        for exponent in [-2, -1, -62, -63] {
+            let r = Readout::from_ratio(crate::math::ldexp(1.5, exponent)).expect("in range");
             for carry in [
-                (1i128 << 94) - 1,
-                -(1i128 << 94),
-                1i128 << 94,
-                -(1i128 << 94) - 1,
+                (1i128 << 93) - 1,
+                -(1i128 << 93),
+                1i128 << 93,
+                -(1i128 << 93) - 1,
+                (1i128 << (r.shift() - 1)) - 1,
+                -(1i128 << (r.shift() - 1)),
                 0,
             ] {
-                for z in [0i128, 1, -1, 1 << 62, -(1 << 62), i128::from(i64::MAX)] {
+                for z in [
+                    0i128,
+                    1,
+                    -1,
+                    (1 << 62) - 1,
+                    -(1 << 62),
+                    1 << 62,
+                    -(1 << 62) - 1,
+                    i128::from(i32::MAX) << r.shift().saturating_sub(31).min(60),
+                    i128::from(i32::MIN) << r.shift().saturating_sub(31).min(60),
+                ] {
                     let mut st = ReadoutState { carry };
                     let got = r.take(&mut st, z);
-                    assert_eq!((got, st.carry), reference(&r, carry, z), "P {}", r.shift());
+                    let want = reference(&r, carry, z);
+                    assert_eq!((got, st.carry), want, "P {} carry {carry} z {z}", r.shift());
                 }
             }
         }
