@@ -510,6 +510,12 @@ pub struct Detector {
     entered: u64,
     /// `[slow, fast][axis X, Y][side +, -]`.
     cusum: [[[i64; 2]; 2]; 2],
+    /// Per horizontal axis, the least headroom of its four CUSUMs below their alarms,
+    /// `min (alarm[c] - cusum[c][a][side])` [Q16 LSB samples]: a tick so far whose offset
+    /// is no larger in magnitude cannot alarm (the pro-rata drift only lowers a CUSUM), so
+    /// [`Self::early_alarm`] tests it and nothing else on most samples. Kept by
+    /// [`Self::refresh_headroom`] wherever a CUSUM or an alarm changes.
+    headroom: [i64; 2],
     onset: [[[u64; 2]; 2]; 2],
     quiet_run: u32,
     /// The tick from which a motion has looked like a tilt (steady, off the bias).
@@ -544,7 +550,7 @@ impl Detector {
             let q = ((q * inflate_q8) >> 8).min(u128::from(u64::MAX)) as u64;
             Noise::new(s, q, c.tick_var_q32)
         });
-        Self {
+        let mut d = Self {
             codes: [[0; 3]; RING],
             sums: [[TickSums::default(); 3]; REPLAY],
             cur_codes: [0; 3],
@@ -554,6 +560,7 @@ impl Detector {
             state: State::Still,
             entered: 0,
             cusum: [[[0; 2]; 2]; 2],
+            headroom: [0; 2],
             onset: [[[0; 2]; 2]; 2],
             quiet_run: 0,
             suspect: None,
@@ -565,7 +572,9 @@ impl Detector {
             noise,
             learn_sum: [0; 3],
             learn_ticks: 0,
-        }
+        };
+        d.refresh_headroom();
+        d
     }
 
     /// The current state.
@@ -679,7 +688,21 @@ impl Detector {
             });
         self.cur_n = 0;
         self.ticks += 1;
-        self.tick(s, bias, velocity)
+        let action = self.tick(s, bias, velocity);
+        self.refresh_headroom();
+        action
+    }
+
+    /// Recomputes [`Self::headroom`] from the CUSUMs and their alarms: after every tick
+    /// (which moves the CUSUMs and may learn a new noise) and whenever the detector enters
+    /// Still (which clears them).
+    fn refresh_headroom(&mut self) {
+        for (a, room) in self.headroom.iter_mut().enumerate() {
+            *room = (0..2)
+                .flat_map(|c| self.cusum[c][a].map(|sum| self.noise[a].alarm[c] - sum))
+                .min()
+                .unwrap_or(0);
+        }
     }
 
     fn enter_still(&mut self) {
@@ -690,6 +713,7 @@ impl Detector {
         self.entered = self.ticks;
         self.cusum = [[[0; 2]; 2]; 2];
         self.onset = [[[self.ticks; 2]; 2]; 2];
+        self.refresh_headroom();
     }
 
     /// The code sums of the last `k` ticks, one pass over the ring for all three axes.
@@ -798,6 +822,10 @@ impl Detector {
 
     /// The CUSUM checked within a tick, on the samples of it so far (`kappa` pro rata), so
     /// that a brisk start is not kept waiting for the tick's end.
+    ///
+    /// The test `sum + z - floor(kappa n / D) > alarm` is made without the division: for
+    /// the integer `x = sum + z - alarm` and `kappa n >= 0`, `x > floor(kappa n / D)` is
+    /// `x D > kappa n` (likewise for the step's `z - floor(kappa n / D) > alarm_slow / 2`).
     #[inline(never)]
     fn early_alarm(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
         let n = i64::from(self.cur_n);
@@ -806,15 +834,21 @@ impl Detector {
         for (a, &b) in bias.iter().enumerate().take(2) {
             // Below 2^14 codes of 16 bits: 2^46, and n bias < 2^46.
             let d = (i64::from(self.cur_codes[a]) << 16) - n * b;
+            let room = self.headroom[a];
+            if (-room..=room).contains(&d) {
+                continue;
+            }
             let noise = self.noise[a];
             for (c, (cusum, onset)) in self.cusum.iter().zip(&self.onset).enumerate() {
-                let kappa = noise.kappa[c] * n / i64::from(s.tick);
+                // kappa < 2^41 (sd < 2^39) and n <= 2^14; `x D > kappa n` with x <= 0 is false.
+                let drift = u128::from(noise.kappa[c].unsigned_abs()) * u128::from(self.cur_n);
+                let exceeds = |x: i64| x > 0 && u128::from(x as u64) * u128::from(s.tick) > drift;
                 for (side, z) in [d, -d].into_iter().enumerate() {
                     let sum = cusum[a][side];
-                    if sum + z - kappa > noise.alarm[c] {
+                    if exceeds(sum + z - noise.alarm[c]) {
                         let on = if sum == 0 { self.ticks } else { onset[a][side] };
                         alarm = Some(alarm.map_or(on, |o| o.min(on)));
-                        step |= z - kappa > noise.alarm[0] / 2;
+                        step |= exceeds(z - noise.alarm[0] / 2);
                     }
                 }
             }
@@ -1234,6 +1268,7 @@ mod tests {
         };
         let mut d = Detector::new(&s, &[cal; 3]);
         d.noise = [Noise::new(&s, 1 << 32, 1 << 32); 3];
+        d.refresh_headroom();
         (s, d)
     }
 
@@ -1324,6 +1359,7 @@ mod tests {
             *slot = [15 * 2048; 3];
         }
         d.codes[9][0] = (15 * 2048 + dx) as u32;
+        d.refresh_headroom();
         (s, d)
     }
 
@@ -1423,7 +1459,60 @@ mod tests {
         d.cur_codes[0] = (5 * 2048 + dx) as u32;
         d.cusum[0][0] = [sum_q16; 2];
         d.onset[0][0] = [5; 2];
+        d.refresh_headroom();
         (s, d)
+    }
+
+    /// The least headroom of the CUSUMs below their alarms, from scratch.
+    fn headroom_now(d: &Detector) -> [i64; 2] {
+        core::array::from_fn(|a| {
+            let mut room = i64::MAX;
+            for c in 0..2 {
+                for side in 0..2 {
+                    room = room.min(d.noise[a].alarm[c] - d.cusum[c][a][side]);
+                }
+            }
+            room
+        })
+    }
+
+    #[test]
+    fn the_early_alarm_headroom_is_kept_through_every_change() {
+        // Rest (the CUSUMs move every tick, the noise is learnt), slow pushes that start
+        // motions, clicks and a restart: after every sample and event the kept headroom is
+        // the CUSUMs' own. A stale one would let an early alarm pass unseen.
+        let (s, mut d) = unit_noise_detector();
+        let bias = [2048 << 16; 3];
+        let noise_before = d.noise;
+        let mut trace = crate::bench::testsignal::Trace::new(0x4EAD);
+        let (mut changes, mut starts) = (0, 0);
+        for k in 0..60_000u32 {
+            let before = d.headroom;
+            let noise = i32::from(trace.next_code() % 3) - 1;
+            let push = match k % 9000 {
+                6000..=6299 => 2,
+                6300..=6599 => -2,
+                _ => 0,
+            };
+            let codes = [2048 + noise + push, 2048 - noise, 2048 + noise].map(|v| v as u16);
+            let y = codes.map(|c| i64::from(c) << 16);
+            if matches!(d.push(&s, codes, y, bias, [0; 3]), Action::Start { .. }) {
+                starts += 1;
+            }
+            if k % 9000 == 8000 {
+                d.click(&s);
+            }
+            if k == 40_000 {
+                d.restart();
+            }
+            assert_eq!(d.headroom, headroom_now(&d), "sample {k}");
+            changes += usize::from(d.headroom != before);
+        }
+        assert!(
+            changes > 500 && starts >= 6,
+            "{changes} changes, {starts} starts"
+        );
+        assert_ne!(d.noise, noise_before, "the noise was learnt at rest");
     }
 
     #[test]
