@@ -29,10 +29,12 @@
 pub struct Readout {
     mult: u32,
     shift: u32,
-    /// `P - 32`, the shift of the carry's upper part, for `33 <= P <= 93`; 0 otherwise
-    /// (every read-out then takes the definition).
+    /// Whether `33 <= P <= 93`, the shifts the 64-bit pieces serve (otherwise every
+    /// read-out takes the definition).
+    split: bool,
+    /// `P - 32`, the shift of the carry's upper part (0 unless `split`).
     shift_hi: u32,
-    /// `2^(P-33)`: the rounding offset `2^(P-1)` over `2^32` (0 unless `shift_hi > 0`).
+    /// `2^(P-33)`: the rounding offset `2^(P-1)` over `2^32` (0 unless `split`).
     half_hi: i64,
     /// `2^(P-32) - 1`: the mask of the upper part of a remainder below `2^P`.
     mask_hi: i64,
@@ -71,16 +73,14 @@ impl Readout {
         if shift == 0 {
             return None;
         }
-        let shift_hi = if (33..=93).contains(&shift) {
-            shift - 32
-        } else {
-            0
-        };
+        let split = (33..=93).contains(&shift);
+        let shift_hi = if split { shift - 32 } else { 0 };
         Some(Self {
             mult: mult as u32,
             shift,
+            split,
             shift_hi,
-            half_hi: if shift_hi > 0 { 1 << (shift_hi - 1) } else { 0 },
+            half_hi: if split { 1 << (shift_hi - 1) } else { 0 },
             mask_hi: (1 << shift_hi) - 1,
         })
     }
@@ -123,7 +123,7 @@ impl Readout {
     #[inline]
     pub fn take(&self, state: &mut ReadoutState, z: i128) -> i32 {
         let below = |v: i128, bits: u32| (v >> bits) == (v >> 127);
-        if self.shift_hi > 0 && below(z, 62) && below(state.carry, 93) {
+        if self.split && below(z, 62) && below(state.carry, 93) {
             let c = state.carry;
             let m = u64::from(self.mult);
             let a = u64::from(z as u32) * m;
@@ -136,7 +136,7 @@ impl Readout {
                 + self.half_hi;
             if let Ok(n) = i32::try_from(u_hi >> self.shift_hi) {
                 let hi = (u_hi & self.mask_hi) - self.half_hi;
-                state.carry = (i128::from(hi) << 32) | i128::from(lo);
+                state.carry = (i128::from(hi) << 32) + i128::from(lo);
                 return n;
             }
         }
@@ -331,11 +331,17 @@ mod tests {
                 (1i128 << (r.shift() - 1)) - 1,
                 -(1i128 << (r.shift() - 1)),
                 0,
+                1 << 100,
+                -(1 << 97),
             ] {
+                // Positions and carries far beyond the bounds whose low bits are all zero:
+                // a bound tested on the wrong bits would let them in.
                 for z in [
                     0i128,
                     1,
                     -1,
+                    1 << 66,
+                    -(1 << 100),
                     (1 << 62) - 1,
                     -(1 << 62),
                     1 << 62,

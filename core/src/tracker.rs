@@ -196,30 +196,39 @@ impl Tracker {
     /// device).
     #[inline(never)]
     fn track(&mut self, codes: [u16; AXES]) {
-        let s = self.settings;
-        let y: [i64; AXES] = core::array::from_fn(|a| self.axes[a].filter(&s, AdcCode(codes[a])));
-        let (Some(ds), Some(det)) = (s.drift(), self.detector.as_mut()) else {
-            integrate_all(&mut self.axes, &s, y);
+        // Borrowed field by field: the settings (320 bytes) are not copied per sample.
+        let Self {
+            settings: s,
+            axes,
+            detector,
+            counters,
+            ..
+        } = self;
+        let y: [i64; AXES] = core::array::from_fn(|a| axes[a].filter(s, AdcCode(codes[a])));
+        let (Some(ds), Some(det)) = (s.drift(), detector.as_mut()) else {
+            integrate_all(axes, s, y);
             return;
         };
         match det.state() {
-            State::Moving => integrate_all(&mut self.axes, &s, y),
-            State::Still => self.counters.still_samples += 1,
-            State::Frozen => self.counters.frozen_samples += 1,
+            State::Moving => integrate_all(axes, s, y),
+            State::Still => counters.still_samples += 1,
+            State::Frozen => counters.frozen_samples += 1,
             State::Lifted => {}
         }
-        let bias = self.axes.each_ref().map(Axis::bias_q16);
-        let velocity = self.axes.each_ref().map(|a| a.integrator().velocity());
+        let bias = axes.each_ref().map(Axis::bias_q16);
+        let velocity = axes.each_ref().map(|a| a.integrator().velocity());
         let action = det.push(ds, codes, y, bias, velocity);
         if det.state() == State::Lifted && matches!(action, Action::Stop | Action::Discard) {
-            self.counters.lifts += 1;
+            counters.lifts += 1;
         }
-        self.apply(action);
+        if action != Action::None {
+            self.apply(action);
+        }
     }
 
     /// Carries out a drift-control decision on the axes.
     fn apply(&mut self, action: Action) {
-        let s = self.settings;
+        let s = &self.settings;
         match action {
             Action::None => {}
             Action::Start { ticks } => {
@@ -233,7 +242,7 @@ impl Tracker {
                     }
                     for sums in det.replay(ds, ticks) {
                         for (axis, b) in self.axes.iter_mut().zip(&sums) {
-                            axis.integrate_block(&s, b);
+                            axis.integrate_block(s, b);
                         }
                     }
                 }
