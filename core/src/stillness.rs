@@ -943,7 +943,8 @@ impl Detector {
         for (a, &b) in bias.iter().enumerate() {
             // Offset in Q16 LSB samples; its square over n is a variance per sample in Q32.
             let e = (i128::from(self.learn_sum[a]) << 16) - n * i128::from(b); // < 2^59
-            let var = (e.unsigned_abs() * e.unsigned_abs() / n as u128).min(u128::from(u64::MAX));
+            let var = crate::math::square_over(e.unsigned_abs() as u64, n as u64) // e < 2^59
+                .min(u128::from(u64::MAX));
             let q = u128::from(self.noise[a].q_q32);
             let m = u128::from(LEARN_BLOCKS);
             let q = ((q * (m - 1) + var) / m).max(1 << 30) as u64;

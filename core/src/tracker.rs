@@ -161,6 +161,10 @@ impl Tracker {
         event
     }
 
+    /// Ends a calibration window. Out of line: it builds the detector (several KiB), which
+    /// inlined would give [`Self::feed`] a frame of that size to set up on every block.
+    #[cold]
+    #[inline(never)]
     fn finish_calibration(&mut self) -> Event {
         let mut results = [Calibration {
             bias_q16: 0,

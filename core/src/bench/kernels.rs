@@ -33,7 +33,11 @@ pub fn settings(filter: bool, scheme: Scheme) -> Settings {
 /// checksum once per block, so the bookkeeping costs about two instructions per sample
 /// ([`Baseline`] measures it).
 pub trait Kernel {
-    /// Runs over `codes`, folding outputs into `sum`.
+    /// Work done before a block is timed: what the device gets for free, such as the
+    /// ADC's codes of a scene, built from `codes`. Nothing by default.
+    fn prepare(&mut self, _codes: &[u16]) {}
+
+    /// Runs over `codes` (after [`Self::prepare`] on them), folding outputs into `sum`.
     fn run(&mut self, codes: &[u16], sum: &mut Checksum);
 
     /// The most samples a timed block may hold: the harness's SysTick counts 2^24 ticks,
@@ -102,18 +106,25 @@ const DEVICE_BLOCK_MAX: usize = 20;
 /// The device's sample path exactly as the firmware runs it: the default configuration at
 /// `fs_hz` (drift control on, three axes), fed one DMA block of `fs / 1000` triples per
 /// call ([`Tracker::feed`]), its counts taken after each block (the 1 kHz USB poll), a
-/// button edge at every click. The harness times each call, so the worst block is measured
-/// against its 1 ms deadline.
+/// button edge before a block that holds a click. The harness times each call, so the worst
+/// block is measured against its 1 ms deadline. The block's codes are built by
+/// [`Kernel::prepare`], before the timer starts: on the device the DMA writes them.
 ///
 /// The desk, the same in samples at any rate so that both rates see the same phases,
 /// repeating every [`DESK_PERIOD`] samples: rest, then at sample 768 a stroke (a push of 40
 /// LSB on X and 20 on Y for 96 samples, then the same pull: about 1 m/s^2, back to rest),
-/// rest, a click at sample 1300 (its freeze over before the next stroke), rest. Noise of -1, 0 or +1 LSB from the trace's codes (as the calibration's) rides on
-/// every axis; Z carries gravity's 1 g offset of 410 LSB.
+/// rest, a click at sample 1300 (its freeze over before the next stroke), rest. Noise of -1,
+/// 0 or +1 LSB from the trace's codes (as the calibration's) rides on every axis; Z carries
+/// gravity's 1 g offset of 410 LSB.
 pub struct DevicePath {
     tracker: Tracker,
     block: usize,
     k: u32,
+    /// The block [`Kernel::prepare`] built, `len` triples of it.
+    codes: [[u16; 3]; DEVICE_BLOCK_MAX],
+    len: usize,
+    /// Whether the prepared block holds a click.
+    click: bool,
 }
 
 /// Samples per repetition of [`DevicePath`]'s desk.
@@ -139,6 +150,9 @@ impl DevicePath {
             tracker,
             block: (fs_hz / 1000).clamp(1, DEVICE_BLOCK_MAX as u32) as usize,
             k: 0,
+            codes: [[0; 3]; DEVICE_BLOCK_MAX],
+            len: 0,
+            click: false,
         }
     }
 
@@ -155,31 +169,35 @@ impl DevicePath {
 }
 
 impl Kernel for DevicePath {
-    #[inline(never)]
-    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
-        let mut acc: u64 = 0;
-        let mut block = [[0u16; 3]; DEVICE_BLOCK_MAX];
-        for chunk in codes.chunks(self.block) {
-            for (slot, &c) in block.iter_mut().zip(chunk) {
-                let ((px, py), click) = Self::desk(self.k);
-                if click {
-                    self.tracker.button_edge();
-                }
-                let n = i32::from(c % 3) - 1;
-                *slot = [2048 + n + px, 2048 - n + py, 2048 + 410 + n].map(|v| v as u16);
-                self.k += 1;
-            }
-            self.tracker.feed(&block[..chunk.len()]);
-            let [x, y, _] = self.tracker.take_counts();
-            // The velocity is the exact sum of every integrated sample: it sees what the
-            // rounded counts may not.
-            let w = self.tracker.axes()[0].integrator().velocity();
-            acc = acc
-                .wrapping_add(x as u64)
-                .wrapping_add((y as u64) << 20)
-                .wrapping_add(w as u64);
+    /// Builds the next DMA block from the first `fs / 1000` of `codes` (their noise).
+    fn prepare(&mut self, codes: &[u16]) {
+        self.len = codes.len().min(self.block);
+        self.click = false;
+        for (slot, &c) in self.codes.iter_mut().zip(&codes[..self.len]) {
+            let ((px, py), click) = Self::desk(self.k);
+            self.click |= click;
+            let n = i32::from(c % 3) - 1;
+            *slot = [2048 + n + px, 2048 - n + py, 2048 + 410 + n].map(|v| v as u16);
+            self.k += 1;
         }
-        sum.add(acc);
+    }
+
+    /// Feeds the prepared block (a click's edge first) and takes the counts.
+    #[inline(never)]
+    fn run(&mut self, _codes: &[u16], sum: &mut Checksum) {
+        if self.click {
+            self.tracker.button_edge();
+        }
+        self.tracker.feed(&self.codes[..self.len]);
+        let [x, y, _] = self.tracker.take_counts();
+        // The velocity is the exact sum of every integrated sample: it sees what the
+        // rounded counts may not.
+        let w = self.tracker.axes()[0].integrator().velocity();
+        sum.add(
+            (x as u64)
+                .wrapping_add((y as u64) << 20)
+                .wrapping_add(w as u64),
+        );
         sum.add(self.tracker.counters().motions.into());
         for a in self.tracker.axes() {
             sum.add(a.bias_q16() as u64);

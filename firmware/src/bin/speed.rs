@@ -79,6 +79,7 @@ fn time_kernel(name: &str, kernel: &mut dyn Kernel, codes: &[u16]) {
     let (mut ticks, mut cycles, mut most): (u64, u64, u32) = (0, 0, 0);
     let block_len = BLOCK.min(kernel.max_block());
     for block in codes.chunks_exact(block_len) {
+        kernel.prepare(block);
         let c0 = DWT::cycle_count();
         let start = SYST::get_current();
         kernel.run(block, &mut sum);
