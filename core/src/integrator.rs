@@ -85,6 +85,32 @@ impl IntegratorState {
         self.primed = true;
     }
 
+    /// Euler steps over a block, given the block's sums: `a = sum c` and
+    /// `b = sum_m sum_{k <= m} c[k]` (Q16 counts) over `n` samples. `W += 2 a` and
+    /// `Z += 2 n W + 4 b`: exactly `n` calls of [`Scheme::step`] when none of them would
+    /// saturate, which holds when `|W| < 2^62`, `n <= 2^14` and every `|c| < 2^32` (the
+    /// velocity then moves by less than `2^47`); the caller checks that ([`crate::Axis::update_block`]).
+    /// Otherwise the velocity saturates at the block's end instead of at the step that
+    /// reaches the limit.
+    ///
+    /// # Ranges
+    /// `|a| < 2^46` and `|b| < 2^59` under those bounds; `|2 n W| < 2^96` for any `n`: the
+    /// position's `i128` takes it (see the module docs for its headroom).
+    #[inline]
+    pub fn euler_block(&mut self, n: u32, a: i64, b: i64) {
+        self.z += 2 * i128::from(n) * i128::from(self.w) + 4 * i128::from(b);
+        self.w = self.w.saturating_add(a.saturating_mul(2));
+    }
+
+    /// A state at rest but for the velocity `w` (`W = 2 V`), for tests near saturation.
+    #[cfg(test)]
+    pub(crate) fn with_velocity(w: i64) -> Self {
+        Self {
+            w,
+            ..Self::default()
+        }
+    }
+
     /// Stops the motion: zero velocity and position, and the trapezoid waits for a new first
     /// sample.
     pub fn reset(&mut self) {
@@ -263,6 +289,27 @@ mod tests {
                 scheme.step_block(&mut by_block, &b, bias);
                 assert_eq!(by_block, by_step, "{scheme:?} n {n}");
             }
+        }
+    }
+
+    #[test]
+    fn an_euler_block_is_its_steps() {
+        // Blocks of 1 to 40 samples from a walk of velocities: the block form equals the
+        // steps when no step saturates.
+        let mut trace = crate::bench::testsignal::Trace::new(0xE0B);
+        for n in 1..=40u32 {
+            let w0 = (trace.next_u64() as i64) >> 3;
+            let mut by_step = IntegratorState::with_velocity(w0);
+            let mut by_block = by_step;
+            let (mut a, mut b) = (0i64, 0i64);
+            for _ in 0..n {
+                let c = (trace.next_u64() as i64) >> 32;
+                Scheme::Euler.step(&mut by_step, c);
+                a += c;
+                b += a;
+            }
+            by_block.euler_block(n, a, b);
+            assert_eq!(by_block, by_step, "n {n}");
         }
     }
 

@@ -144,7 +144,15 @@ impl Tracker {
     /// the last calibration window that ended in this block, if any.
     pub fn feed(&mut self, block: &[[u16; AXES]]) -> Option<Event> {
         let mut event = None;
-        for sample in block {
+        let mut rest = block;
+        while let Some((sample, later)) = rest.split_first() {
+            if self.phase == Phase::Tracking && self.detector.is_none() {
+                // Without drift control nothing decides per sample: the rest of the block
+                // goes through each axis in one pass.
+                self.track_block(rest);
+                break;
+            }
+            rest = later;
             self.counters.samples += 1;
             match self.phase {
                 Phase::Tracking => self.track(*sample),
@@ -193,6 +201,16 @@ impl Tracker {
         self.detector = self.settings.drift().map(|d| Detector::new(d, &results));
         self.phase = Phase::Tracking;
         Event::Calibrated(results)
+    }
+
+    /// Tracked samples without drift control: each axis takes the block at once
+    /// ([`Axis::update_block`]), exactly as [`Self::track`] on each sample.
+    fn track_block(&mut self, block: &[[u16; AXES]]) {
+        self.counters.samples += block.len() as u64;
+        let s = &self.settings;
+        for (a, axis) in self.axes.iter_mut().enumerate() {
+            axis.update_block(s, block.iter().map(|t| AdcCode(t[a])));
+        }
     }
 
     /// One tracked sample: filter, integration while a motion is under way, then the

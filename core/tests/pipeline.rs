@@ -407,3 +407,91 @@ fn a_new_configuration_leaves_no_phantom_counts() {
     assert_eq!(t.phase(), Phase::Tracking);
     assert_eq!(moved, [0, 0, 0], "a still device after the change");
 }
+
+/// Deterministic codes around 2048 with the occasional rail, for block tests.
+fn wander(n: usize, seed: u64) -> Vec<u16> {
+    let mut t = imu_core::bench::testsignal::Trace::new(seed);
+    (0..n)
+        .map(|_| match t.next_u64() % 50 {
+            0 => 0,
+            1 => 4095,
+            _ => t.next_code(),
+        })
+        .collect()
+}
+
+#[test]
+fn a_block_is_processed_exactly_as_its_samples_are() {
+    // Blocks of every length from 0 to 40 (and one of 2^14 + 1, past the one pass's bound),
+    // with and without the low-pass, both schemes: the block-wise axis equals the
+    // per-sample one after every block, counts included.
+    for (filter, scheme) in [
+        (true, Scheme::Euler),
+        (false, Scheme::Euler),
+        (true, Scheme::Trapezoid),
+    ] {
+        let settings = Config {
+            lowpass_fc_hz: filter.then_some(50.0),
+            scheme,
+            ..cfg()
+        }
+        .validate()
+        .expect("valid");
+        let codes = wander(40 * 41 / 2 + (1 << 14) + 1, 0xB10C);
+        let (mut by_sample, mut by_block) = (Axis::new(2040 << 16), Axis::new(2040 << 16));
+        let mut rest = &codes[..];
+        for len in (0..=40).chain([(1 << 14) + 1]) {
+            let (now, later) = rest.split_at(len);
+            for &c in now {
+                by_sample.update(&settings, AdcCode(c));
+            }
+            by_block.update_block(&settings, now.iter().map(|&c| AdcCode(c)));
+            assert_eq!(
+                by_block, by_sample,
+                "filter {filter}, {scheme:?}, block {len}"
+            );
+            assert_eq!(
+                by_block.take_counts(&settings),
+                by_sample.take_counts(&settings)
+            );
+            rest = later;
+        }
+        assert!(rest.is_empty());
+    }
+}
+
+#[test]
+fn a_tracker_without_drift_control_takes_blocks_exactly_as_samples() {
+    // Calibration ends inside a block; the rest of it and every later block go through the
+    // axes at once. Fed one sample at a time, the same tracker ends in the same state.
+    let config = cfg();
+    let (mut by_sample, mut by_block) = (
+        Tracker::new(&config).expect("valid"),
+        Tracker::new(&config).expect("valid"),
+    );
+    let quiet: Vec<[u16; 3]> = (0..3000 + 7).map(|i| rest(i, 2048)).collect();
+    let moving: Vec<[u16; 3]> = wander(3 * 5000, 0x7EAC)
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    let samples: Vec<[u16; 3]> = quiet.into_iter().chain(moving).collect();
+    let mut moved = [0i64; 3];
+    for block in samples.chunks(20) {
+        for s in block {
+            by_sample.feed(core::slice::from_ref(s));
+        }
+        by_block.feed(block);
+        let counts = by_block.take_counts();
+        assert_eq!(counts, by_sample.take_counts());
+        for (m, n) in moved.iter_mut().zip(counts) {
+            *m += i64::from(n).abs();
+        }
+        assert_eq!(by_block.axes(), by_sample.axes());
+    }
+    assert_eq!(by_block.phase(), Phase::Tracking);
+    assert_eq!(by_block.counters(), by_sample.counters());
+    assert!(
+        moved.iter().all(|&m| m > 0),
+        "the wander moved every axis: {moved:?}"
+    );
+}

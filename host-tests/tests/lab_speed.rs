@@ -48,7 +48,13 @@ fn parser_rejects_malformed_output() {
 fn host_checksums_are_distinct_and_see_one_changed_code() {
     // CI compares these with the target's: the comparison is worth something only if each
     // kernel has its own checksum and a single differing output changes it.
+    // The block-wise pipeline computes exactly what the per-sample one does: the one pair
+    // that must collide.
     let a = host_checksums();
+    let sum = |name: &str| a.iter().find(|k| k.0 == name).map(|k| k.1);
+    assert_eq!(sum("pipeline_block"), sum("pipeline_axis"));
+    assert!(sum("pipeline_axis").is_some());
+    let a: Vec<_> = a.iter().filter(|k| k.0 != "pipeline_block").collect();
     for (i, x) in a.iter().enumerate() {
         assert!(a[i + 1..].iter().all(|y| y.1 != x.1), "{} collides", x.0);
     }
@@ -107,6 +113,12 @@ fn default_path_error_is_below_one_percent_of_sensor_noise() {
         .iter()
         .find(|(v, _)| *v == Variant::Default)
         .expect("default row");
+    // The block-wise default is the same arithmetic: the same error, to the last bit.
+    let (_, block) = errs
+        .iter()
+        .find(|(v, _)| *v == Variant::Block)
+        .expect("block row");
+    assert_eq!(block, default);
     for (t, e) in times.iter().zip(default) {
         let frac = e / sensor_noise_m(*t);
         assert!(

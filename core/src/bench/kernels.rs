@@ -16,7 +16,16 @@ use crate::{
 /// # Panics
 /// Never: the configuration is a valid constant.
 pub fn settings(filter: bool, scheme: Scheme) -> Settings {
+    settings_at(3000, filter, scheme)
+}
+
+/// [`settings`] at `fs_hz` (a rate the configuration accepts, e.g. 20 000).
+///
+/// # Panics
+/// If `fs_hz` is outside the accepted rates.
+pub fn settings_at(fs_hz: u32, filter: bool, scheme: Scheme) -> Settings {
     match (Config {
+        fs_hz,
         lowpass_fc_hz: if filter { Some(50.0) } else { None },
         scheme,
         drift: None,
@@ -25,7 +34,7 @@ pub fn settings(filter: bool, scheme: Scheme) -> Settings {
     .validate()
     {
         Ok(s) => s,
-        Err(_) => unreachable!("a constant, valid configuration"),
+        Err(e) => panic!("benchmark settings at {fs_hz} Hz: {e}"),
     }
 }
 
@@ -65,7 +74,8 @@ impl Kernel for Baseline {
 }
 
 /// The whole per-axis pipeline: filter (optional), bias, double integration, and a count
-/// read-out every third sample (the 1 kHz USB poll at 3 kHz).
+/// read-out every third sample (the 1 kHz USB poll at 3 kHz), one sample at a time
+/// ([`Axis::update`]).
 pub struct PipelineAxis {
     settings: Settings,
     axis: Axis,
@@ -97,6 +107,46 @@ impl Kernel for PipelineAxis {
         }
         sum.add(acc);
         sum.add(self.axis.integrator().velocity() as u64);
+    }
+}
+
+/// [`PipelineAxis`] a poll's samples at a time ([`Axis::update_block`]), `poll` samples
+/// per read-out: 3 is the 1 kHz poll at 3 kHz (the same outputs as [`PipelineAxis`], so
+/// the same checksum), 20 the poll at 20 kHz.
+pub struct PipelineBlock {
+    pipeline: PipelineAxis,
+    poll: u32,
+}
+
+impl PipelineBlock {
+    /// The pipeline with `settings`, bias at code 2048, read every `poll` samples (`>= 1`).
+    pub fn new(settings: Settings, poll: u32) -> Self {
+        Self {
+            pipeline: PipelineAxis::new(settings),
+            poll: poll.max(1),
+        }
+    }
+}
+
+impl Kernel for PipelineBlock {
+    #[inline(never)]
+    fn run(&mut self, codes: &[u16], sum: &mut Checksum) {
+        let p = &mut self.pipeline;
+        let mut acc: u64 = 0;
+        let mut rest = codes;
+        while !rest.is_empty() {
+            let (now, later) = rest.split_at(((self.poll - p.n) as usize).min(rest.len()));
+            p.axis
+                .update_block(&p.settings, now.iter().map(|&c| AdcCode(c)));
+            p.n += now.len() as u32;
+            if p.n == self.poll {
+                p.n = 0;
+                acc = acc.wrapping_add(p.axis.take_counts(&p.settings) as u64);
+            }
+            rest = later;
+        }
+        sum.add(acc);
+        sum.add(p.axis.integrator().velocity() as u64);
     }
 }
 
@@ -134,10 +184,25 @@ impl DevicePath {
     /// The path at `fs_hz` (a rate the device accepts, `>= 1000` so that a block is 1 ms),
     /// calibrated on a quiet first second.
     pub fn new(fs_hz: u32) -> Self {
-        let Ok(mut tracker) = Tracker::new(&Config {
+        Self::with(&Config {
             fs_hz,
             ..Config::default()
-        }) else {
+        })
+    }
+
+    /// The same path with drift control off (the profile key `drift` off): what drift
+    /// control costs is the difference.
+    pub fn without_drift(fs_hz: u32) -> Self {
+        Self::with(&Config {
+            fs_hz,
+            drift: None,
+            ..Config::default()
+        })
+    }
+
+    fn with(config: &Config) -> Self {
+        let fs_hz = config.fs_hz;
+        let Ok(mut tracker) = Tracker::new(config) else {
             unreachable!("the default configuration is valid at every accepted rate")
         };
         let mut quiet = crate::bench::testsignal::Trace::new(0x0CA1);

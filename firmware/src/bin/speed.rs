@@ -23,7 +23,7 @@ use cortex_m_semihosting::{debug, hprintln};
 use dsp_process::SplitProcess;
 use imu_core::bench::kernels::{
     self, Baseline, DevicePath, F32Stage, IntegratorStage, Kernel, LowpassStage, NarrowStage,
-    PipelineAxis, ReadoutStage,
+    PipelineAxis, PipelineBlock, ReadoutStage,
 };
 use imu_core::bench::testsignal::{Checksum, Trace};
 use imu_core::Scheme;
@@ -145,6 +145,16 @@ fn main() -> ! {
         &codes,
     );
     time_kernel(
+        "pipeline_block",
+        &mut PipelineBlock::new(kernels::settings(true, Scheme::Euler), 3),
+        &codes,
+    );
+    time_kernel(
+        "pipeline_block_20khz",
+        &mut PipelineBlock::new(kernels::settings_at(20_000, true, Scheme::Euler), 20),
+        &codes,
+    );
+    time_kernel(
         "pipeline_axis_nofilter",
         &mut PipelineAxis::new(kernels::settings(false, Scheme::Euler)),
         &codes,
@@ -171,6 +181,11 @@ fn main() -> ! {
     time_kernel("narrow_pipeline", &mut NarrowStage::default(), &codes);
     time_kernel("device_3khz", &mut DevicePath::new(3000), &codes);
     time_kernel("device_20khz", &mut DevicePath::new(20_000), &codes);
+    time_kernel(
+        "device_3khz_nodrift",
+        &mut DevicePath::without_drift(3000),
+        &codes,
+    );
     hprintln!("done");
     debug::exit(debug::EXIT_SUCCESS);
     halt()

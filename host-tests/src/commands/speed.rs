@@ -22,7 +22,7 @@ use std::time::Instant;
 use dsp_process::SplitProcess;
 use imu_core::bench::kernels::{
     self, Baseline, DevicePath, F32Stage, IntegratorStage, Kernel, LowpassStage, NarrowStage,
-    PipelineAxis, ReadoutStage,
+    PipelineAxis, PipelineBlock, ReadoutStage,
 };
 use imu_core::bench::testsignal::{Checksum, Trace};
 use imu_core::bench::variants::{F32Pipeline, NarrowPipeline};
@@ -75,6 +75,20 @@ pub fn kernels() -> Vec<(&'static str, Box<dyn Kernel>)> {
             Box::new(PipelineAxis::new(kernels::settings(true, Scheme::Euler))),
         ),
         (
+            "pipeline_block",
+            Box::new(PipelineBlock::new(
+                kernels::settings(true, Scheme::Euler),
+                3,
+            )),
+        ),
+        (
+            "pipeline_block_20khz",
+            Box::new(PipelineBlock::new(
+                kernels::settings_at(20_000, true, Scheme::Euler),
+                20,
+            )),
+        ),
+        (
             "pipeline_axis_nofilter",
             Box::new(PipelineAxis::new(kernels::settings(false, Scheme::Euler))),
         ),
@@ -100,6 +114,10 @@ pub fn kernels() -> Vec<(&'static str, Box<dyn Kernel>)> {
         ("narrow_pipeline", Box::new(NarrowStage::default())),
         ("device_3khz", Box::new(DevicePath::new(3000))),
         ("device_20khz", Box::new(DevicePath::new(20_000))),
+        (
+            "device_3khz_nodrift",
+            Box::new(DevicePath::without_drift(3000)),
+        ),
     ]
 }
 
@@ -349,8 +367,11 @@ fn twin_axis(filter: bool, bias: f64) -> twin::Axis {
 /// A configuration of the speed table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Variant {
-    /// The device's path: Q16, i64/i128, 50 Hz low-pass, Euler.
+    /// The device's path: Q16, i64/i128, 50 Hz low-pass, Euler, one sample at a time.
     Default,
+    /// The same arithmetic a block at a time ([`imu_core::Axis::update_block`]): one pass
+    /// per USB poll, bit for bit the default's outputs.
+    Block,
     /// The same without the low-pass.
     NoFilter,
     /// The same with the trapezoid.
@@ -365,8 +386,9 @@ pub enum Variant {
 
 impl Variant {
     /// All of them, in table order.
-    pub const ALL: [Variant; 6] = [
+    pub const ALL: [Variant; 7] = [
         Self::Default,
+        Self::Block,
         Self::NoFilter,
         Self::Trapezoid,
         Self::Narrow,
@@ -375,8 +397,9 @@ impl Variant {
     ];
 
     /// The variants whose error is measured: all but the f64 twin, which is the reference.
-    pub const MEASURED: [Variant; 5] = [
+    pub const MEASURED: [Variant; 6] = [
         Self::Default,
+        Self::Block,
         Self::NoFilter,
         Self::Trapezoid,
         Self::Narrow,
@@ -387,6 +410,7 @@ impl Variant {
     pub fn name(self) -> &'static str {
         match self {
             Self::Default => "default (Q16, i64/i128, low-pass, Euler)",
+            Self::Block => "default, a block per USB poll",
             Self::NoFilter => "default without low-pass",
             Self::Trapezoid => "default with trapezoid",
             Self::Narrow => "narrow (Q8, i32/i64, no filter)",
@@ -399,6 +423,7 @@ impl Variant {
     pub fn kernel(self) -> Option<&'static str> {
         match self {
             Self::Default => Some("pipeline_axis"),
+            Self::Block => Some("pipeline_block"),
             Self::NoFilter => Some("pipeline_axis_nofilter"),
             Self::Trapezoid => Some("pipeline_axis_trapezoid"),
             Self::Narrow => Some("narrow_pipeline"),
@@ -457,6 +482,9 @@ pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
             cfg(true, Scheme::Trapezoid),
         ];
         let mut axes = [Axis::new(bias_q16); 3];
+        // The block-wise default: codes gathered for a USB poll (3 samples) and passed at once.
+        let mut block_axis = Axis::new(bias_q16);
+        let mut pending = Vec::with_capacity(3);
         let mut narrow = NarrowPipeline::new((mean * 256.0).round() as i32);
         let mean32 = window.iter().map(|&c| f32::from(c)).sum::<f32>() / 3000.0;
         let k32 = settings[0].lowpass_k_q32() as f32 / 4_294_967_296.0;
@@ -472,6 +500,10 @@ pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
             for (a, s) in axes.iter_mut().zip(&settings) {
                 a.update(s, AdcCode(c));
             }
+            pending.push(AdcCode(c));
+            if pending.len() == 3 {
+                block_axis.update_block(&settings[0], pending.drain(..));
+            }
             narrow.update(c);
             f32p.update(c);
             truth[0].update(c);
@@ -484,8 +516,10 @@ pub fn errors_at(trials: u64, times: &[f64]) -> Vec<(Variant, Vec<f64>)> {
                 let t_off = truth[1].position() * to_m;
                 // The trapezoid integrates one step fewer here (its first sample primes it).
                 let t_trap = trap_truth.position() * to_m;
+                // The times are whole polls at 3 kHz: the block-wise axis is up to date.
                 let got = [
                     axes[0].integrator().position() as f64 * unit - t_on,
+                    block_axis.integrator().position() as f64 * unit - t_on,
                     axes[1].integrator().position() as f64 * unit - t_off,
                     axes[2].integrator().position() as f64 * unit - t_trap,
                     narrow.s as f64 / 256.0 * to_m - t_off,
@@ -525,8 +559,12 @@ pub struct Config {
     pub err_over_sensor_noise: std::collections::BTreeMap<String, Option<f64>>,
 }
 
-/// The device-path kernels and their sampling rates [Hz].
-pub const DEVICE_KERNELS: [(&str, u32); 2] = [("device_3khz", 3000), ("device_20khz", 20_000)];
+/// The device-path kernels, their sampling rates [Hz] and whether drift control is on.
+pub const DEVICE_KERNELS: [(&str, u32, bool); 3] = [
+    ("device_3khz", 3000, true),
+    ("device_20khz", 20_000, true),
+    ("device_3khz_nodrift", 3000, false),
+];
 /// The core clock [Hz] the shares are taken of (`firmware/src/board.rs`).
 pub const CORE_HZ: f64 = 96e6;
 
@@ -535,6 +573,8 @@ pub const CORE_HZ: f64 = 96e6;
 pub struct DeviceRow {
     /// Sampling rate [Hz].
     pub fs_hz: u32,
+    /// Whether drift control is on (the default).
+    pub drift: bool,
     /// Sample triples per DMA block.
     pub block: f64,
     /// Instructions per sample triple, mean over the trace (rest, strokes, clicks).
@@ -554,11 +594,12 @@ pub struct DeviceRow {
 pub fn device_rows(t: &[TargetKernel]) -> Vec<DeviceRow> {
     DEVICE_KERNELS
         .iter()
-        .filter_map(|&(name, fs)| {
+        .filter_map(|&(name, fs, drift)| {
             let k = t.iter().find(|k| k.name == name)?;
             let deadline = k.block_samples / f64::from(fs) * CORE_HZ;
             Some(DeviceRow {
                 fs_hz: fs,
+                drift,
                 block: k.block_samples,
                 instructions_per_triple: k.instructions_per_sample,
                 worst_block_instructions: k.worst_block_instructions,
@@ -728,9 +769,10 @@ pub fn table(r: &Report) -> String {
                 one DMA block per call, counts taken per block; rest, strokes and a click):\n";
         for d in &t.device {
             out += &format!(
-                "  {:>5} Hz, {:>2.0} triples/block: {:>7.1} instructions per triple ({:.1} per axis-sample); \
+                "  {:>5} Hz{}, {:>2.0} triples/block: {:>7.1} instructions per triple ({:.1} per axis-sample); \
                  CPU >= {:.1} %; worst block {:.0} of {:.0} cycles (>= {:.1} % of its deadline)\n",
                 d.fs_hz,
+                if d.drift { "" } else { " without drift control" },
                 d.block,
                 d.instructions_per_triple,
                 d.instructions_per_triple / 3.0,
