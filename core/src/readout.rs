@@ -124,6 +124,14 @@ impl Readout {
     pub fn take(&self, state: &mut ReadoutState, z: i128) -> i32 {
         let below = |v: i128, bits: u32| (v >> bits) == (v >> 127);
         if self.split && below(z, 62) && below(state.carry, 93) {
+            if z == 0 {
+                // Nothing moved (a device at rest): the count is 0 and the carry stays,
+                // unless the carry itself has a count to give (after a clamp).
+                let u_hi = (state.carry >> 32) as i64 + self.half_hi;
+                if u_hi >> self.shift_hi == 0 {
+                    return 0;
+                }
+            }
             let c = state.carry;
             let m = u64::from(self.mult);
             let a = u64::from(z as u32) * m;

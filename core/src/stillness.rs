@@ -513,8 +513,9 @@ pub struct Detector {
     /// Per horizontal axis, the least headroom of its four CUSUMs below their alarms,
     /// `min (alarm[c] - cusum[c][a][side])` [Q16 LSB samples]: a tick so far whose offset
     /// is no larger in magnitude cannot alarm (the pro-rata drift only lowers a CUSUM), so
-    /// [`Self::early_alarm`] tests it and nothing else on most samples. Kept by
-    /// [`Self::refresh_headroom`] wherever a CUSUM or an alarm changes.
+    /// at rest a sample is tested against it and nothing else
+    /// ([`Self::within_headroom`]). Kept by [`Self::refresh_headroom`] wherever a CUSUM or
+    /// an alarm changes.
     headroom: [i64; 2],
     onset: [[[u64; 2]; 2]; 2],
     quiet_run: u32,
@@ -673,7 +674,7 @@ impl Detector {
             State::Still | State::Lifted => {}
         }
         if self.cur_n < s.tick {
-            if self.state == State::Still {
+            if self.state == State::Still && !self.within_headroom(bias) {
                 return self.early_alarm(s, bias);
             }
             return Action::None;
@@ -742,10 +743,10 @@ impl Detector {
     /// [`Self::explained`] against a reference averaged over `nb` samples.
     #[inline(never)]
     fn explained_against(&self, axis: usize, d: i64, n: u64, k2_q8: u64, nb: u64) -> bool {
-        let n = u128::from(n);
+        // n^2 / N_b without a 128-bit division (a software routine on the device).
         let var = mul(
             u128::from(self.noise[axis].q_q32),
-            n + n * n / u128::from(nb.max(1)),
+            u128::from(n) + crate::math::square_over(n, nb.max(1)),
         );
         let d = u128::from(d.unsigned_abs());
         d * d <= mul(var, u128::from(k2_q8)) >> 8
@@ -820,6 +821,20 @@ impl Detector {
         }
     }
 
+    /// Whether the tick so far is within [`Self::headroom`] on both horizontal axes, so that
+    /// no CUSUM can alarm on it: the test made on every sample at rest, kept small enough to
+    /// inline; only past it does [`Self::early_alarm`] make the exact test.
+    #[inline(always)]
+    fn within_headroom(&self, bias: [i64; 3]) -> bool {
+        let n = i64::from(self.cur_n);
+        let within = |a: usize| {
+            // Below 2^14 codes of 16 bits: 2^46, and n bias < 2^46.
+            let d = (i64::from(self.cur_codes[a]) << 16) - n * bias[a];
+            (-self.headroom[a]..=self.headroom[a]).contains(&d)
+        };
+        within(0) && within(1)
+    }
+
     /// The CUSUM checked within a tick, on the samples of it so far (`kappa` pro rata), so
     /// that a brisk start is not kept waiting for the tick's end.
     ///
@@ -834,15 +849,13 @@ impl Detector {
         for (a, &b) in bias.iter().enumerate().take(2) {
             // Below 2^14 codes of 16 bits: 2^46, and n bias < 2^46.
             let d = (i64::from(self.cur_codes[a]) << 16) - n * b;
-            let room = self.headroom[a];
-            if (-room..=room).contains(&d) {
-                continue;
-            }
             let noise = self.noise[a];
             for (c, (cusum, onset)) in self.cusum.iter().zip(&self.onset).enumerate() {
                 // kappa < 2^41 (sd < 2^39) and n <= 2^14; `x D > kappa n` with x <= 0 is false.
                 let drift = u128::from(noise.kappa[c].unsigned_abs()) * u128::from(self.cur_n);
-                let exceeds = |x: i64| x > 0 && u128::from(x as u64) * u128::from(s.tick) > drift;
+                let exceeds = |x: i64| {
+                    u64::try_from(x).is_ok_and(|x| u128::from(x) * u128::from(s.tick) > drift)
+                };
                 for (side, z) in [d, -d].into_iter().enumerate() {
                     let sum = cusum[a][side];
                     if exceeds(sum + z - noise.alarm[c]) {
@@ -1514,6 +1527,23 @@ mod tests {
             "{changes} changes, {starts} starts"
         );
         assert_ne!(d.noise, noise_before, "the noise was learnt at rest");
+    }
+
+    #[test]
+    fn a_brisk_start_on_either_axis_alarms_before_its_tick_ends() {
+        // A step of 40 codes on X, or on Y, from a tick's first sample: its offset crosses
+        // the fast CUSUM's alarm (8 sd of a tick, 31 codes) at once, and the motion starts
+        // on that sample, not at the tick's end.
+        for axis in [0, 1] {
+            let (s, mut d) = unit_noise_detector();
+            let bias = [2048 << 16; 3];
+            let mut codes = [2048u16; 3];
+            codes[axis] += 40;
+            let y = codes.map(|c| i64::from(c) << 16);
+            let action = d.push(&s, codes, y, bias, [0; 3]);
+            assert_eq!(action, Action::Start { ticks: 0 }, "axis {axis}");
+            assert_eq!(d.cur_n, 1);
+        }
     }
 
     #[test]
