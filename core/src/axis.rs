@@ -185,6 +185,13 @@ impl Axis {
         self.last
     }
 
+    /// Whether [`Self::take_counts`] would return 0 and change nothing: no position since
+    /// the last read-out and a carry in its usual range ([`crate::Readout::is_idle`]).
+    #[inline]
+    pub fn is_idle(&self, settings: &Settings) -> bool {
+        self.integrator.position() == 0 && settings.readout().is_idle(&self.readout)
+    }
+
     /// Drains the position accumulated since the last call into whole mouse counts, carrying
     /// the remainder.
     pub fn take_counts(&mut self, settings: &Settings) -> i32 {

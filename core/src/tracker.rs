@@ -357,7 +357,14 @@ impl Tracker {
             return [0; AXES];
         }
         let settings = &self.settings;
-        self.axes.each_mut().map(|axis| axis.take_counts(settings))
+        // At rest nothing was integrated: an idle axis is not read out (the same 0).
+        self.axes.each_mut().map(|axis| {
+            if axis.is_idle(settings) {
+                0
+            } else {
+                axis.take_counts(settings)
+            }
+        })
     }
 
     /// The current phase.

@@ -382,11 +382,15 @@ pub enum Variant {
     F32,
     /// The f64 twin itself (the ground truth's implementation).
     F64,
+    /// The device's whole path at 3 kHz (`device_3khz`: the tracker with drift control),
+    /// per axis-sample. Its error is not the arithmetic's: drift control's stops and starts
+    /// are decisions, measured on scenes (`cargo lab mouse`, docs/drift-control.md).
+    Tracker,
 }
 
 impl Variant {
     /// All of them, in table order.
-    pub const ALL: [Variant; 7] = [
+    pub const ALL: [Variant; 8] = [
         Self::Default,
         Self::Block,
         Self::NoFilter,
@@ -394,6 +398,7 @@ impl Variant {
         Self::Narrow,
         Self::F32,
         Self::F64,
+        Self::Tracker,
     ];
 
     /// The variants whose error is measured: all but the f64 twin, which is the reference.
@@ -416,6 +421,7 @@ impl Variant {
             Self::Narrow => "narrow (Q8, i32/i64, no filter)",
             Self::F32 => "f32 (low-pass, Euler)",
             Self::F64 => "f64 twin (the reference)",
+            Self::Tracker => "device path, drift control (per axis)",
         }
     }
 
@@ -429,6 +435,16 @@ impl Variant {
             Self::Narrow => Some("narrow_pipeline"),
             Self::F32 => Some("f32_pipeline"),
             Self::F64 => None,
+            Self::Tracker => Some("device_3khz"),
+        }
+    }
+
+    /// Axis-samples per sample of its kernel: 3 for the device path (a kernel sample is a
+    /// triple), 1 otherwise.
+    pub fn axes_per_kernel_sample(self) -> f64 {
+        match self {
+            Self::Tracker => 3.0,
+            _ => 1.0,
         }
     }
 }
@@ -452,7 +468,7 @@ pub fn errors(trials: u64, max_t_s: f64) -> Vec<(Variant, Vec<Option<f64>>)> {
             e.resize(ERROR_TIMES_S.len(), None);
             (v, e)
         })
-        .chain([(Variant::F64, vec![None; ERROR_TIMES_S.len()])])
+        .chain([Variant::F64, Variant::Tracker].map(|v| (v, vec![None; ERROR_TIMES_S.len()])))
         .collect()
 }
 
@@ -549,9 +565,10 @@ pub fn sensor_noise_m(t: f64) -> f64 {
 pub struct Config {
     /// Configuration.
     pub name: &'static str,
-    /// Host time per sample [ns].
+    /// Host time per axis-sample [ns].
     pub host_ns_per_sample: f64,
-    /// Target instructions per sample (read-out every third sample included), if measured.
+    /// Target instructions per axis-sample (read-outs at the 1 kHz poll included), if
+    /// measured.
     pub target_instructions_per_sample: Option<f64>,
     /// RMS error against f64 at 1 s, 60 s, 3600 s [m].
     pub err_m: std::collections::BTreeMap<String, Option<f64>>,
@@ -648,14 +665,15 @@ pub fn report(target: Option<Vec<TargetKernel>>, trials: u64, max_t_s: f64) -> R
         .map(|(v, e)| {
             let kernel = v.kernel();
             let host_key = kernel.unwrap_or("f64_twin");
+            let per = v.axes_per_kernel_sample();
             Config {
                 name: v.name(),
-                host_ns_per_sample: host.get(host_key).copied().unwrap_or(f64::NAN),
+                host_ns_per_sample: host.get(host_key).copied().unwrap_or(f64::NAN) / per,
                 target_instructions_per_sample: target.as_ref().and_then(|t| {
                     kernel.and_then(|k| {
                         t.iter()
                             .find(|x| x.name == k)
-                            .map(|x| x.instructions_per_sample)
+                            .map(|x| x.instructions_per_sample / per)
                     })
                 }),
                 err_m: ERROR_TIMES_S
