@@ -6,16 +6,17 @@ Usage: check_elf.py ELF LLVM_BIN_DIR
 Layout (memory.x, firmware/src/board.rs): the vector table alone in sector 0, nothing in
 sectors 1 and 2 (0x08004000..0x0800C000, the profile store: code there would be erased by
 a save), the code from sector 3 (0x0800C000) on.
-Budgets: flash (.vector_table + .text + .rodata + .data) <= 96 KiB, static RAM
+Budgets: flash (.vector_table + .text + .rodata + .data) <= 128 KiB, static RAM
 (.data + .bss + .uninit) <= 24 KiB. Tripwires against growth, not the part's limits (512 KiB
 and 128 KiB): issue 14 (the configuration interface, the store, the raw stream) took the
-image from 62.9 to 88.8 KiB and the RAM from 13.7 to 17.1 KiB (89.3 KiB after issue 15's read-out constants).
+image from 62.9 to 88.8 KiB and the RAM from 13.7 to 17.1 KiB; issue 15 built the core at
+opt-level 3, the code its speed figures measure (91.4 -> 110.6 KiB).
 """
 import re
 import subprocess
 import sys
 
-FLASH_BUDGET = 96 * 1024
+FLASH_BUDGET = 128 * 1024
 RAM_BUDGET = 24 * 1024
 FLASH_ORIGIN = 0x0800_0000
 STORE = (0x0800_4000, 0x0800_C000)
@@ -47,7 +48,7 @@ def main():
           f"{'free' if layout_ok else 'NOT as memory.x says'}")
     flash = sum(sizes.get(s, 0) for s in (".vector_table", ".text", ".rodata", ".data"))
     ram = sum(sizes.get(s, 0) for s in (".data", ".bss", ".uninit"))
-    print(f"flash {flash} bytes ({flash / 1024:.1f} KiB, budget 96 KiB); "
+    print(f"flash {flash} bytes ({flash / 1024:.1f} KiB, budget 128 KiB); "
           f"static RAM {ram} bytes ({ram / 1024:.1f} KiB, budget 24 KiB)")
     ok = layout_ok and flash <= FLASH_BUDGET and ram <= RAM_BUDGET
 
