@@ -109,16 +109,9 @@ impl Default for LowpassState {
 impl LowpassState {
     /// A state settled at `value_q16` (Q16 counts, clamped to `0..=65535 * 2^16`, the codes'
     /// range), e.g. the calibrated bias, so that the filter starts without a transient.
-    pub const fn settled_q16(value_q16: i64) -> Self {
-        let v = if value_q16 < 0 {
-            0
-        } else if value_q16 > 65_535 << 16 {
-            65_535 << 16
-        } else {
-            value_q16
-        };
+    pub fn settled_q16(value_q16: i64) -> Self {
         Self {
-            y: (v as u64) << 16,
+            y: (value_q16.clamp(0, 65_535 << 16) as u64) << 16,
             r: 1 << 31,
         }
     }
