@@ -206,6 +206,22 @@ mod tests {
     use crate::Config;
 
     #[test]
+    fn an_axis_is_idle_until_it_moves_and_again_once_read() {
+        let settings = Config {
+            drift: None,
+            ..Config::default()
+        }
+        .validate()
+        .expect("valid");
+        let mut axis = Axis::new(2048 << 16);
+        assert!(axis.is_idle(&settings));
+        axis.update(&settings, AdcCode(2060));
+        assert!(!axis.is_idle(&settings));
+        let _ = axis.take_counts(&settings);
+        assert!(axis.is_idle(&settings), "drained: nothing to read until the next sample");
+    }
+
+    #[test]
     fn a_block_near_saturation_is_taken_sample_by_sample() {
         // A velocity just below the limit, a block that rails up then down: per sample the
         // velocity saturates at the first step and comes back down; summed over the block
