@@ -218,7 +218,10 @@ mod tests {
         axis.update(&settings, AdcCode(2060));
         assert!(!axis.is_idle(&settings));
         let _ = axis.take_counts(&settings);
-        assert!(axis.is_idle(&settings), "drained: nothing to read until the next sample");
+        assert!(
+            axis.is_idle(&settings),
+            "drained: nothing to read until the next sample"
+        );
     }
 
     #[test]

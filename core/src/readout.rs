@@ -339,7 +339,16 @@ mod tests {
         for exponent in [-2, -1, -30, -62, -63] {
             let r = Readout::from_ratio(crate::math::ldexp(1.5, exponent)).expect("in range");
             let half = 1i128 << (r.shift() - 1);
-            let edges = [0, half - 1, -half, half, -half - 1, 1 << 93, 1 << 100, -(1 << 100)];
+            let edges = [
+                0,
+                half - 1,
+                -half,
+                half,
+                -half - 1,
+                1 << 93,
+                1 << 100,
+                -(1 << 100),
+            ];
             for i in 0..2000 + edges.len() {
                 let carry = match edges.get(i) {
                     Some(&c) => c,

@@ -1530,6 +1530,36 @@ mod tests {
     }
 
     #[test]
+    fn a_sample_at_rest_is_decided_by_the_headroom_alone() {
+        // Five samples into a tick at rest (a code of noise either way): within the
+        // headroom, no exact test. Forty codes up on X or on Y: past it.
+        let (_, d) = unit_noise_detector();
+        let bias = [2048 << 16; 3];
+        let mut rest = d;
+        rest.cur_n = 5;
+        rest.cur_codes = [5 * 2048 + 1, 5 * 2048 - 1, 5 * 2048];
+        assert!(rest.within_headroom(bias));
+        for axis in [0, 1] {
+            let mut step = rest;
+            step.cur_codes[axis] += 40;
+            assert!(!step.within_headroom(bias), "axis {axis}");
+        }
+        // The bound itself, on one sample against a bias set to put the offset on it:
+        // an offset equal to the headroom is within, one more is not.
+        let mut one = d;
+        one.cur_n = 1;
+        one.cur_codes = [2048; 3];
+        for (axis, sign) in [(0, 1), (1, -1)] {
+            let room = one.headroom[axis];
+            let mut at = bias;
+            at[axis] = (2048 << 16) - sign * room;
+            assert!(one.within_headroom(at), "axis {axis} at the bound");
+            at[axis] -= sign;
+            assert!(!one.within_headroom(at), "axis {axis} past the bound");
+        }
+    }
+
+    #[test]
     fn a_brisk_start_on_either_axis_alarms_before_its_tick_ends() {
         // A step of 40 codes on X, or on Y, from a tick's first sample: its offset crosses
         // the fast CUSUM's alarm (8 sd of a tick, 31 codes) at once, and the motion starts
