@@ -15,7 +15,6 @@
 
 use crate::config::Settings;
 use crate::integrator::IntegratorState;
-
 use crate::lowpass::LowpassState;
 use crate::readout::ReadoutState;
 use crate::AdcCode;
@@ -73,7 +72,7 @@ impl Axis {
     /// Processes a block of samples exactly as [`Self::update`] on each, in one pass where
     /// it can: with the Euler scheme (the default) each sample only adds to two `i64` sums
     /// (`a = sum c`, `b = sum of its prefix sums`), and the integrator takes the block at
-    /// once ([`IntegratorState::euler_block`]); the filter's state stays in registers. With
+    /// once ([`IntegratorState::euler_block`]); the filter's state is a local. With
     /// the trapezoid, a velocity near saturation (`|W| >= 2^62`) or a block longer than
     /// `2^14`, it calls [`Self::update`] on each sample.
     ///

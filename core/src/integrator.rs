@@ -89,9 +89,9 @@ impl IntegratorState {
     /// `b = sum_m sum_{k <= m} c[k]` (Q16 counts) over `n` samples. `W += 2 a` and
     /// `Z += 2 n W + 4 b`: exactly `n` calls of [`Scheme::step`] when none of them would
     /// saturate, which holds when `|W| < 2^62`, `n <= 2^14` and every `|c| < 2^32` (the
-    /// velocity then moves by less than `2^47`); the caller checks that ([`crate::Axis::update_block`]).
-    /// Otherwise the velocity saturates at the block's end instead of at the step that
-    /// reaches the limit.
+    /// velocity then moves by less than `2^47`); the caller checks that
+    /// ([`crate::Axis::update_block`]). Otherwise the velocity saturates at the block's end
+    /// instead of at the step that reaches the limit.
     ///
     /// # Ranges
     /// `|a| < 2^46` and `|b| < 2^59` under those bounds; `|2 n W| < 2^96` for any `n`: the

@@ -18,8 +18,8 @@ pub(crate) fn div_round(d: i64, n: i64) -> i64 {
     (2 * d + d.signum() * n) / (2 * n)
 }
 
-/// Floor of the square root of `n` (core's integer square root: no 128-bit division, which
-/// a 32-bit core makes in software, about 20 times dearer than the rest of the root).
+/// Floor of the square root of `n`: core's integer square root, which needs no 128-bit
+/// division (a software routine on a 32-bit core).
 #[inline]
 pub(crate) fn isqrt_u128(n: u128) -> u128 {
     n.isqrt()
