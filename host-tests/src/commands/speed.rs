@@ -139,13 +139,22 @@ pub fn checksums_of(codes: &[u16]) -> Vec<(&'static str, u64)> {
         .into_iter()
         .map(|(name, mut k)| {
             let mut sum = Checksum::default();
-            for b in codes.chunks_exact(BLOCK.min(k.max_block())) {
-                k.prepare(b);
-                k.run(b, &mut sum);
-            }
+            run_blocks(k.as_mut(), codes, &mut sum);
             (name, sum.0)
         })
         .collect()
+}
+
+/// Runs `k` over `codes` as the harness does: whole blocks of [`BLOCK`] samples (or the
+/// kernel's own smaller block), each prepared, then run. Returns the samples run.
+pub fn run_blocks(k: &mut dyn Kernel, codes: &[u16], sum: &mut Checksum) -> usize {
+    let blocks = codes.chunks_exact(BLOCK.min(k.max_block()));
+    let run = codes.len() - blocks.remainder().len();
+    for b in blocks {
+        k.prepare(b);
+        k.run(b, sum);
+    }
+    run
 }
 
 /// One kernel as measured in QEMU.
@@ -260,37 +269,26 @@ pub fn parse_target(text: &str, host: &[(&str, u64)]) -> Result<Vec<TargetKernel
     let mut out = vec![];
     for line in text.lines() {
         let f: Vec<&str> = line.split_whitespace().collect();
+        let num = |i: usize, what: &str| -> Result<f64, String> {
+            f[i].parse().map_err(|_| format!("{what} `{line}`"))
+        };
         match f.first() {
             Some(&"calib") if f.len() == 3 => {
-                let e: f64 = f[1]
-                    .parse()
-                    .map_err(|_| format!("bad calib line `{line}`"))?;
-                let n: f64 = f[2]
-                    .parse()
-                    .map_err(|_| format!("bad calib line `{line}`"))?;
+                let e = num(1, "bad calib line")?;
+                let n = num(2, "bad calib line")?;
                 per_instr = Some((n - e) / 1000.0);
                 empty = e;
             }
             Some(&"kernel") if f.len() == 8 => {
                 let r = per_instr.ok_or("kernel line before the calib line")?;
-                let samples: f64 = f[2]
-                    .parse()
-                    .map_err(|_| format!("bad kernel line `{line}`"))?;
-                let ticks: f64 = f[4]
-                    .parse()
-                    .map_err(|_| format!("bad kernel line `{line}`"))?;
+                let samples = num(2, "bad kernel line")?;
+                let ticks = num(4, "bad kernel line")?;
                 let sum = u64::from_str_radix(f[5], 16)
                     .map_err(|_| format!("bad checksum in `{line}`"))?;
                 let bit_exact = host.iter().any(|(n, s)| *n == f[1] && *s == sum);
-                let cycles: f64 = f[6]
-                    .parse()
-                    .map_err(|_| format!("bad cycle count in `{line}`"))?;
-                let blocks: f64 = f[3]
-                    .parse()
-                    .map_err(|_| format!("bad kernel line `{line}`"))?;
-                let most: f64 = f[7]
-                    .parse()
-                    .map_err(|_| format!("bad kernel line `{line}`"))?;
+                let cycles = num(6, "bad cycle count in")?;
+                let blocks = num(3, "bad kernel line")?;
+                let most = num(7, "bad kernel line")?;
                 out.push(TargetKernel {
                     name: f[1].to_string(),
                     // Net of the empty timed region (the call and the SysTick reads) per
@@ -320,27 +318,22 @@ pub fn parse_target(text: &str, host: &[(&str, u64)]) -> Result<Vec<TargetKernel
 /// `n` samples.
 pub fn host_ns(n: usize) -> Vec<(&'static str, f64)> {
     let codes = trace(n);
-    let best = |f: &mut dyn FnMut()| {
+    // Best of five runs of `f`, which returns the samples it ran.
+    let best = |f: &mut dyn FnMut() -> usize| {
         (0..5)
             .map(|_| {
                 let t = Instant::now();
-                f();
-                t.elapsed().as_secs_f64()
+                let samples = f();
+                t.elapsed().as_secs_f64() / samples as f64
             })
             .fold(f64::MAX, f64::min)
             * 1e9
-            / n as f64
     };
     let mut out: Vec<(&'static str, f64)> = kernels()
         .into_iter()
         .map(|(name, mut k)| {
             let mut sum = Checksum::default();
-            let ns = best(&mut || {
-                for b in codes.chunks(BLOCK.min(k.max_block())) {
-                    k.prepare(b);
-                    k.run(b, &mut sum);
-                }
-            });
+            let ns = best(&mut || run_blocks(k.as_mut(), &codes, &mut sum));
             std::hint::black_box(sum);
             (name, ns)
         })
@@ -350,6 +343,7 @@ pub fn host_ns(n: usize) -> Vec<(&'static str, f64)> {
         for &c in &codes {
             f.update(c);
         }
+        codes.len()
     });
     std::hint::black_box(f.position());
     out.push(("f64_twin", ns));
