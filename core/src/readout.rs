@@ -40,6 +40,12 @@ pub struct Readout {
     mask_hi: i64,
 }
 
+/// Whether `-2^bits <= v < 2^bits`: the bounds of the read-out's 64-bit pieces.
+#[inline(always)]
+fn below(v: i128, bits: u32) -> bool {
+    (v >> bits) == (v >> 127)
+}
+
 /// The carried remainder of one axis's read-out, in Q`P` counts.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ReadoutState {
@@ -122,7 +128,6 @@ impl Readout {
     /// definition on both sides of every bound.
     #[inline]
     pub fn take(&self, state: &mut ReadoutState, z: i128) -> i32 {
-        let below = |v: i128, bits: u32| (v >> bits) == (v >> 127);
         if self.split && below(z, 62) && below(state.carry, 93) {
             let c = state.carry;
             let m = u64::from(self.mult);
@@ -151,9 +156,7 @@ impl Readout {
     pub fn is_idle(&self, state: &ReadoutState) -> bool {
         let c = state.carry;
         // As in `take` with z = 0: u_hi = c_hi + 2^(P-33), and the count is u_hi >> (P - 32).
-        self.split
-            && (c >> 93) == (c >> 127)
-            && ((c >> 32) as i64 + self.half_hi) >> self.shift_hi == 0
+        self.split && below(c, 93) && ((c >> 32) as i64 + self.half_hi) >> self.shift_hi == 0
     }
 
     /// [`Self::take`] by its definition, in saturating 128-bit arithmetic.
@@ -312,12 +315,11 @@ mod tests {
             let got = r.take(&mut st, z);
             let want = reference(&r, carry, z);
             assert_eq!((got, st.carry), want, "P {} carry {carry} z {z}", r.shift());
-            let small = |v: i128, bits: u32| (v >> bits) == (v >> 127);
             let zm = z.saturating_mul(i128::from(r.mult()));
             let fits = |v: i128| (i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&v);
             if (33..=93).contains(&r.shift())
-                && small(carry, 93)
-                && small(z, 62)
+                && below(carry, 93)
+                && below(z, 62)
                 && fits((carry + zm + (1 << (r.shift() - 1))) >> r.shift())
             {
                 fast += 1;

@@ -826,13 +826,17 @@ impl Detector {
     /// inline; only past it does [`Self::early_alarm`] make the exact test.
     #[inline(always)]
     fn within_headroom(&self, bias: [i64; 3]) -> bool {
-        let n = i64::from(self.cur_n);
         let within = |a: usize| {
-            // Below 2^14 codes of 16 bits: 2^46, and n bias < 2^46.
-            let d = (i64::from(self.cur_codes[a]) << 16) - n * bias[a];
-            (-self.headroom[a]..=self.headroom[a]).contains(&d)
+            (-self.headroom[a]..=self.headroom[a]).contains(&self.tick_offset(a, bias[a]))
         };
         within(0) && within(1)
+    }
+
+    /// Offset of the current tick's code sum on `axis` so far from `bias` (Q16 counts)
+    /// [Q16 LSB samples]: below `2^14` codes of 16 bits, `2^46`, and `n bias < 2^46`.
+    #[inline(always)]
+    fn tick_offset(&self, axis: usize, bias: i64) -> i64 {
+        (i64::from(self.cur_codes[axis]) << 16) - i64::from(self.cur_n) * bias
     }
 
     /// The CUSUM checked within a tick, on the samples of it so far (`kappa` pro rata), so
@@ -843,12 +847,10 @@ impl Detector {
     /// `x D > kappa n` (likewise for the step's `z - floor(kappa n / D) > alarm_slow / 2`).
     #[inline(never)]
     fn early_alarm(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
-        let n = i64::from(self.cur_n);
         let mut alarm: Option<u64> = None;
         let mut step = false;
         for (a, &b) in bias.iter().enumerate().take(2) {
-            // Below 2^14 codes of 16 bits: 2^46, and n bias < 2^46.
-            let d = (i64::from(self.cur_codes[a]) << 16) - n * b;
+            let d = self.tick_offset(a, b);
             let noise = self.noise[a];
             for (c, (cusum, onset)) in self.cusum.iter().zip(&self.onset).enumerate() {
                 // kappa < 2^41 (sd < 2^39) and n <= 2^14; `x D > kappa n` with x <= 0 is false.
