@@ -145,25 +145,27 @@ impl Tracker {
     pub fn feed(&mut self, block: &[[u16; AXES]]) -> Option<Event> {
         let mut event = None;
         let mut rest = block;
-        while let Some((sample, later)) = rest.split_first() {
-            if self.phase == Phase::Tracking && self.detector.is_none() {
-                // Without drift control nothing decides per sample: the rest of the block
-                // goes through each axis in one pass.
-                self.track_block(rest);
-                break;
-            }
+        while self.phase == Phase::Calibrating {
+            let Some((sample, later)) = rest.split_first() else {
+                return event;
+            };
             rest = later;
             self.counters.samples += 1;
-            match self.phase {
-                Phase::Tracking => self.track(*sample),
-                Phase::Calibrating => {
-                    for (cal, &code) in self.calibrators.iter_mut().zip(sample) {
-                        cal.push(AdcCode(code));
-                    }
-                    if self.calibrators[0].is_full() {
-                        event = Some(self.finish_calibration());
-                    }
-                }
+            for (cal, &code) in self.calibrators.iter_mut().zip(sample) {
+                cal.push(AdcCode(code));
+            }
+            if self.calibrators[0].is_full() {
+                event = Some(self.finish_calibration());
+            }
+        }
+        if self.detector.is_none() {
+            // Without drift control nothing decides per sample: the block goes through each
+            // axis in one pass.
+            self.track_block(rest);
+        } else {
+            for sample in rest {
+                self.counters.samples += 1;
+                self.track(*sample);
             }
         }
         event

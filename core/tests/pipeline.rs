@@ -495,3 +495,18 @@ fn a_tracker_without_drift_control_takes_blocks_exactly_as_samples() {
         "the wander moved every axis: {moved:?}"
     );
 }
+
+#[test]
+fn every_sample_fed_is_counted_with_and_without_drift_control() {
+    // Calibration ends inside a block of 20; the rest of the samples are tracked, one by one
+    // with drift control, a block at a time without: every one is counted.
+    for config in [Config::default(), cfg()] {
+        let mut tracker = Tracker::new(&config).expect("valid");
+        let samples: Vec<[u16; 3]> = (0..3000 + 1007).map(|i| rest(i, 2048)).collect();
+        for block in samples.chunks(20) {
+            tracker.feed(block);
+        }
+        assert_eq!(tracker.phase(), Phase::Tracking);
+        assert_eq!(tracker.counters().samples, samples.len() as u64);
+    }
+}
