@@ -3,5 +3,6 @@
 //! ([`desk`]). Everything here ends as ADC codes; nothing here runs the core.
 
 pub mod desk;
+pub mod hand;
 pub mod noise;
 pub mod scene;

@@ -23,6 +23,7 @@ use crate::stats::{spread, Spread};
 use crate::world::desk::{Plan, Sensor, FS};
 use crate::world::noise;
 
+pub mod families;
 pub mod pointing;
 
 /// The device's counts per inch (the default configuration).
@@ -349,6 +350,9 @@ pub struct Args {
     /// Print JSON instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Only the hand model's families (issue 22).
+    #[arg(long)]
+    pub families: bool,
 }
 
 /// Runs `cargo lab mouse`: the desk scenes, then the pointing scenes.
@@ -360,6 +364,18 @@ pub fn run(a: &Args) -> super::Outcome {
         return Err(super::Error::arg("strokes", a.strokes, "1..=10000"));
     }
     super::positive("rest-minutes", a.rest_minutes)?;
+    if a.families {
+        let z = if a.quick {
+            families::Sizes::QUICK
+        } else {
+            families::Sizes::FULL
+        };
+        let f = families::all(Some(Drift::default()), z, a.seed);
+        if a.json {
+            return super::json(&serde_json::to_value(&f)?);
+        }
+        return Ok(families::table(&f));
+    }
     let bar = super::progress(0, a.json, "");
     bar.set_message("desk scenes");
     let report = compare(a.strokes, a.rest_minutes, a.seed);
