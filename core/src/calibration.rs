@@ -9,9 +9,10 @@
 //!   the configured bound; the reported rms is `floor(sqrt(variance) * 2^16)` in Q16 counts.
 //!
 //! - noise over time: the window is also cut into ticks of `D` samples (drift control's 5 ms
-//!   ticks). From the tick sums `s[t]` come their variance `g0` and lag-one covariance `g1`
-//!   (exact integer sums, rounded once): [`Calibration::tick_var_q32`] `= g0 / D` and
-//!   [`Calibration::long_run_var_q32`] `= (g0 + 2 g1) / D`, the variance per sample of a long
+//!   ticks). From the tick sums `s[t]` come their variance `g0` and lag covariances `g1`,
+//!   `g2`, `g3` (exact integer sums, rounded once): [`Calibration::tick_var_q32`] `= g0 / D`,
+//!   [`Calibration::tick_lags_q32`] `= g_l / D`, and [`Calibration::long_run_var_q32`]
+//!   `= (g0 + 2 g1 + 2 g2) / D`, the variance per sample of a long
 //!   sum (`Var(sum of n samples) ~ q n` for `n >> D`; REFERENCE (i)). A sensor's RC filter
 //!   correlates neighbouring samples, so `q` is several times the per-sample variance (19x
 //!   for an ADXL335's 50 Hz pole at 3 kHz); ticks well past the filter's time constant keep
@@ -44,6 +45,11 @@ pub struct Calibration {
     /// [LSB^2 per sample, Q32]: `Var(sum of n samples) ~ q n` for sums longer than a tick.
     /// Floored at 1/4 LSB^2 and at half of [`Self::tick_var_q32`].
     pub long_run_var_q32: u64,
+    /// Lag-1, lag-2 and lag-3 covariances of the tick sums divided by the tick's length
+    /// [LSB^2 per sample, Q32, signed; 0 with fewer than 4 ticks]: with
+    /// [`Self::tick_var_q32`] they give the noise of any short linear combination of tick
+    /// sums (drift control's disturbance estimate).
+    pub tick_lags_q32: [i64; 3],
 }
 
 /// Why a calibration window was rejected.
@@ -92,15 +98,13 @@ pub struct Calibrator {
     clipped: Option<u16>,
     /// The current tick's sum so far.
     tick_sum: u64,
-    /// The first two complete ticks' sums and the last two.
-    first_ticks: [u64; 2],
-    last_ticks: [u64; 2],
-    /// Complete ticks, their sum, sum of squares and sums of lag-one and lag-two products.
+    /// The first three complete ticks' sums and the last three (oldest first).
+    first_ticks: [u64; 3],
+    last_ticks: [u64; 3],
+    /// Complete ticks, their sum, and the sums of lag-0 (squares) to lag-3 products.
     ticks: u32,
     ticks_sum: u64,
-    ticks_sum_sq: u128,
-    ticks_lag1: u128,
-    ticks_lag2: u128,
+    ticks_lag: [u128; 4],
 }
 
 impl Calibrator {
@@ -118,13 +122,11 @@ impl Calibrator {
             sum_sq: 0,
             clipped: None,
             tick_sum: 0,
-            first_ticks: [0; 2],
-            last_ticks: [0; 2],
+            first_ticks: [0; 3],
+            last_ticks: [0; 3],
             ticks: 0,
             ticks_sum: 0,
-            ticks_sum_sq: 0,
-            ticks_lag1: 0,
-            ticks_lag2: 0,
+            ticks_lag: [0; 4],
         }
     }
 
@@ -155,19 +157,19 @@ impl Calibrator {
         if self.n.is_multiple_of(self.tick) {
             let t = self.tick_sum;
             self.ticks_sum += t; // <= 2^40
-            self.ticks_sum_sq += u128::from(t) * u128::from(t); // <= 2^24 * 2^60
-            let [before, last] = self.last_ticks;
-            if self.ticks >= 1 {
-                self.ticks_lag1 += u128::from(t) * u128::from(last);
+            // Products with the ticks 0..=3 back: each <= 2^24 * 2^60 in all.
+            self.ticks_lag[0] += u128::from(t) * u128::from(t);
+            for lag in 1..=3usize {
+                if self.ticks as usize >= lag {
+                    let back = self.last_ticks[3 - lag];
+                    self.ticks_lag[lag] += u128::from(t) * u128::from(back);
+                }
             }
-            if self.ticks >= 2 {
-                self.ticks_lag2 += u128::from(t) * u128::from(before);
-            }
-            if self.ticks < 2 {
+            if self.ticks < 3 {
                 self.first_ticks[self.ticks as usize] = t;
             }
             self.ticks += 1;
-            self.last_ticks = [last, t];
+            self.last_ticks = [self.last_ticks[1], self.last_ticks[2], t];
             self.tick_sum = 0;
         }
     }
@@ -208,45 +210,78 @@ impl Calibrator {
             samples: self.n,
             tick_var_q32,
             long_run_var_q32,
+            tick_lags_q32: self.tick_lags(),
         })
     }
 
-    /// `(g0 / D, (g0 + 2 g1 + 2 g2) / D)` in LSB^2 per sample, Q32, floored (see
-    /// [`Calibration`]). With fewer than 4 ticks, both are the floor.
-    fn tick_variances(&self) -> (u64, u64) {
-        const FLOOR: u64 = 1 << 30; // 1/4 LSB^2
+    /// The centred lag sums of the tick sums times `k^2`, `k^2 C_l` for `l = 0..=3`, exactly
+    /// (`k` ticks, `m = s / k` their mean; the edge terms matter: `m` is thousands of times
+    /// the deviations):
+    ///
+    /// ```text
+    /// C_l = sum_{i > l} (t[i] - m)(t[i-l] - m)
+    /// k^2 C_l = k^2 P_l - (k + l) s^2 + k s (F_l + L_l)
+    /// ```
+    ///
+    /// with `P_l = sum t[i] t[i-l]`, `F_l` the sum of the first `l` ticks and `L_l` of the
+    /// last `l`. Every term is below `2^110`. `None` with fewer than 4 ticks.
+    fn centred_lags(&self) -> Option<[i128; 4]> {
         let k = i128::from(self.ticks);
         if k < 4 {
-            return (FLOOR, FLOOR);
+            return None;
         }
         let s = i128::from(self.ticks_sum);
         let s2 = s * s; // < 2^80
-        let [f1, f2] = self.first_ticks.map(i128::from);
-        let [l2, l1] = self.last_ticks.map(i128::from);
-        // The centred lag sums C_l = sum (t[i] - m)(t[i-l] - m), m = s / k, exactly, times
-        // k^2 (the edge terms matter: m is thousands of times the deviations):
-        //   k^2 C0 = k (k sum t^2 - s^2)
-        //   k^2 C1 = k^2 P1 - (k + 1) s^2 + k s (t[1] + t[k])
-        //   k^2 C2 = k^2 P2 - (k + 2) s^2 + k s (t[1] + t[2] + t[k-1] + t[k])
-        // with P_l = sum t[i] t[i-l]; g_l = C_l / k. Every term is below 2^110.
-        let c0 = k * (k * self.ticks_sum_sq as i128 - s2);
-        let c1 = k * k * self.ticks_lag1 as i128 - (k + 1) * s2 + k * s * (f1 + l1);
-        let c2 = k * k * self.ticks_lag2 as i128 - (k + 2) * s2 + k * s * (f1 + f2 + l2 + l1);
+        let first = self.first_ticks.map(i128::from);
+        let last = self.last_ticks.map(i128::from);
+        Some(core::array::from_fn(|l| {
+            let edges: i128 = first[..l].iter().sum::<i128>() + last[3 - l..].iter().sum::<i128>();
+            let lag = l as i128;
+            k * k * self.ticks_lag[l] as i128 - (k + lag) * s2 + k * s * edges
+        }))
+    }
+
+    /// `floor(num 2^32 / (k^3 D))`, saturating at `u64::MAX`, for the centred lag sums:
+    /// the quotient's whole part shifted, plus the remainder's fraction (rem < den = k^3 D
+    /// <= 2^72, since k D <= 2^24, so rem 2^32 fits). Negative `num` gives 0.
+    fn per_sample_q32(&self, num: i128) -> u64 {
+        let k = i128::from(self.ticks);
         let den = k * k * k * i128::from(self.tick);
-        // floor(num 2^32 / den), saturating at u64::MAX, in one exact path: the quotient's
-        // whole part shifted, plus the remainder's fraction (rem < den = k^3 tick <= 2^72,
-        // since k tick <= 2^24, so rem 2^32 fits).
-        let q32 = |num: i128| -> u64 {
-            let num = num.max(0);
-            let whole = num / den;
-            if whole >= 1 << 32 {
-                return u64::MAX;
-            }
-            ((whole << 32) + ((num % den) << 32) / den) as u64
+        let num = num.max(0);
+        let whole = num / den;
+        if whole >= 1 << 32 {
+            return u64::MAX;
+        }
+        ((whole << 32) + ((num % den) << 32) / den) as u64
+    }
+
+    /// `(g0 / D, (g0 + 2 g1 + 2 g2) / D)` in LSB^2 per sample, Q32, floored (see
+    /// [`Calibration`]), `g_l = C_l / k`. With fewer than 4 ticks, both are the floor.
+    fn tick_variances(&self) -> (u64, u64) {
+        const FLOOR: u64 = 1 << 30; // 1/4 LSB^2
+        let Some([c0, c1, c2, _]) = self.centred_lags() else {
+            return (FLOOR, FLOOR);
         };
-        let g0 = q32(c0);
-        let long = q32(c0 + 2 * c1 + 2 * c2);
+        let g0 = self.per_sample_q32(c0);
+        let long = self.per_sample_q32(c0 + 2 * c1 + 2 * c2);
         (g0.max(FLOOR), long.max(g0 / 2).max(FLOOR))
+    }
+
+    /// `g_l / D` for `l = 1, 2, 3` in LSB^2 per sample, Q32, signed, not floored; zeros with
+    /// fewer than 4 ticks.
+    fn tick_lags(&self) -> [i64; 3] {
+        let Some(c) = self.centred_lags() else {
+            return [0; 3];
+        };
+        core::array::from_fn(|i| {
+            let v = c[i + 1];
+            let mag = self.per_sample_q32(v.abs()).min(i64::MAX as u64) as i64;
+            if v < 0 {
+                -mag
+            } else {
+                mag
+            }
+        })
     }
 }
 

@@ -13,7 +13,7 @@ use crate::calibration::Calibrator;
 use crate::integrator::Scheme;
 use crate::lowpass::Lowpass;
 use crate::readout::Readout;
-use crate::stillness::{Drift, DriftError, DriftSettings};
+use crate::drift::{Drift, DriftError, DriftSettings};
 
 /// Lowest accepted sampling rate [Hz].
 pub const FS_MIN_HZ: u32 = 1;
@@ -196,7 +196,7 @@ impl Config {
             window,
             crate::math::round_to_u64(var_q16).max(1),
             self.adc_bits,
-            crate::stillness::tick_samples(self.fs_hz),
+            crate::drift::tick_samples(self.fs_hz),
         );
         let drift = match &self.drift {
             None => None,

@@ -33,6 +33,7 @@ pub mod bench;
 pub mod button;
 pub mod calibration;
 pub mod config;
+pub mod drift;
 pub mod hid;
 pub mod indicator;
 pub mod integrator;
@@ -43,7 +44,6 @@ pub mod power;
 pub mod profile;
 pub mod protocol;
 pub mod readout;
-pub mod stillness;
 pub mod tracker;
 
 pub use axis::Axis;
@@ -58,7 +58,7 @@ pub use lowpass::{Lowpass, LowpassState};
 pub use power::{Power, PowerAction};
 pub use profile::{AxisMap, Key, Profile, ProfileError};
 pub use readout::{Readout, ReadoutState};
-pub use stillness::{Drift, DriftError, State as DriftState};
+pub use drift::{Drift, DriftError, State as DriftState};
 pub use tracker::{Counters, Event, Phase, Tracker, AXES};
 
 /// Number of fractional bits of the bias-free acceleration `c` fed to the integrator

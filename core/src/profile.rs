@@ -28,7 +28,7 @@ use core::fmt;
 
 use crate::config::{Config, ConfigError};
 use crate::integrator::Scheme;
-use crate::stillness::{Drift, DriftError};
+use crate::drift::{Drift, DriftError};
 
 /// Which sensor axis drives the cursor, and in which sense.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -196,34 +196,22 @@ keys! {
     RestNoiseMaxMS2 = 8, "rest_noise_max_m_s2", Kind::Real;
     /// Drift control on (1) or off (0).
     Drift = 9, "drift", Kind::Flag;
-    /// Drift control: CUSUM alarm threshold [sd].
-    StartSigmas = 10, "drift.start_sigmas", Kind::Real;
     /// Drift control: hold of young motion [s].
     HoldS = 11, "drift.hold_s", Kind::Real;
-    /// Drift control: stop-test window [s].
-    QuietS = 12, "drift.quiet_s", Kind::Real;
-    /// Drift control: stop-test bound [sd].
-    QuietSigmas = 13, "drift.quiet_sigmas", Kind::Real;
-    /// Drift control: zero-velocity band [sd].
-    VelocitySigmas = 14, "drift.velocity_sigmas", Kind::Real;
-    /// Drift control: zero-velocity fraction of the peak.
-    StopFraction = 15, "drift.stop_fraction", Kind::Real;
-    /// Drift control: quiet time that stops any motion [s].
-    CoastS = 16, "drift.coast_s", Kind::Real;
-    /// Drift control: steadiness window [s].
-    RestS = 17, "drift.rest_s", Kind::Real;
-    /// Drift control: steadiness scatter factor.
-    RestFactor = 18, "drift.rest_factor", Kind::Real;
-    /// Drift control: tilt confirmation time [s].
-    TiltS = 19, "drift.tilt_s", Kind::Real;
-    /// Drift control: lift threshold [m/s^2], off = no lift detection.
-    LiftMS2 = 20, "drift.lift_m_s2", Kind::Optional;
-    /// Drift control: lift threshold per unit of horizontal offset.
-    LiftXyRatio = 21, "drift.lift_xy_ratio", Kind::Real;
-    /// Drift control: bias tracking time constant [s], off = none.
+    /// Drift control: zero tracking time constant [s], off = none.
     BiasTauS = 22, "drift.bias_tau_s", Kind::Optional;
     /// Drift control: motion suppressed after a click [s].
     ClickFreezeS = 23, "drift.click_freeze_s", Kind::Real;
+    /// Drift control: mean time at rest between false starts [device-hours].
+    FalseStartHours = 40, "drift.false_start_hours", Kind::Real;
+    /// Drift control: lowest frequency of a knock's ring or a machine's vibration [Hz].
+    KnockHz = 41, "drift.knock_hz", Kind::Real;
+    /// Drift control: the longest stroke of a hand [s].
+    StrokeMaxS = 42, "drift.stroke_max_s", Kind::Real;
+    /// Drift control: the slowest lift's rise [s], off = no lift detection.
+    LiftRiseS = 43, "drift.lift_rise_s", Kind::Optional;
+    /// Drift control: mounting tilt and cross-axis allowance [degrees].
+    MountTiltDeg = 44, "drift.mount_tilt_deg", Kind::Real;
     /// Sensor axis that moves the cursor right (0 X, 1 Y, 2 Z).
     XAxis = 30, "x_axis", Kind::Integer { min: 0, max: 2 };
     /// +1, or -1 if that axis's positive direction moves the cursor left.
@@ -251,18 +239,12 @@ impl Key {
             ConfigError::CalibrationWindow => Key::CalibrationS,
             ConfigError::RestNoise => Key::RestNoiseMaxMS2,
             ConfigError::Drift(d) => match d {
-                DriftError::StartSigmas => Key::StartSigmas,
+                DriftError::FalseStart => Key::FalseStartHours,
                 DriftError::Hold => Key::HoldS,
-                DriftError::QuietWindow => Key::QuietS,
-                DriftError::QuietSigmas => Key::QuietSigmas,
-                DriftError::VelocitySigmas => Key::VelocitySigmas,
-                DriftError::StopFraction => Key::StopFraction,
-                DriftError::Coast => Key::CoastS,
-                DriftError::RestWindow => Key::RestS,
-                DriftError::RestFactor => Key::RestFactor,
-                DriftError::Tilt => Key::TiltS,
-                DriftError::Lift => Key::LiftMS2,
-                DriftError::LiftRatio => Key::LiftXyRatio,
+                DriftError::Knock => Key::KnockHz,
+                DriftError::Stroke => Key::StrokeMaxS,
+                DriftError::Lift => Key::LiftRiseS,
+                DriftError::MountTilt => Key::MountTiltDeg,
                 DriftError::BiasTau => Key::BiasTauS,
                 DriftError::ClickFreeze => Key::ClickFreezeS,
             },
@@ -366,20 +348,14 @@ impl Profile {
             Key::CalibrationS => c.calibration_s,
             Key::RestNoiseMaxMS2 => c.rest_noise_max_m_s2,
             Key::Drift => f64::from(u8::from(c.drift.is_some())),
-            Key::StartSigmas => d.start_sigmas,
             Key::HoldS => d.hold_s,
-            Key::QuietS => d.quiet_s,
-            Key::QuietSigmas => d.quiet_sigmas,
-            Key::VelocitySigmas => d.velocity_sigmas,
-            Key::StopFraction => d.stop_fraction,
-            Key::CoastS => d.coast_s,
-            Key::RestS => d.rest_s,
-            Key::RestFactor => d.rest_factor,
-            Key::TiltS => d.tilt_s,
-            Key::LiftMS2 => opt(d.lift_m_s2),
-            Key::LiftXyRatio => d.lift_xy_ratio,
             Key::BiasTauS => opt(d.bias_tau_s),
             Key::ClickFreezeS => d.click_freeze_s,
+            Key::FalseStartHours => d.false_start_hours,
+            Key::KnockHz => d.knock_hz,
+            Key::StrokeMaxS => d.stroke_max_s,
+            Key::LiftRiseS => opt(d.lift_rise_s),
+            Key::MountTiltDeg => d.mount_tilt_deg,
             Key::XAxis => f64::from(m.x_axis),
             Key::XSign => sign(m.x_flip),
             Key::YAxis => f64::from(m.y_axis),
@@ -432,20 +408,14 @@ impl Profile {
                 1.0 => c.drift = Some(*d),
                 _ => return Err(bad),
             },
-            Key::StartSigmas => d.start_sigmas = real(value)?,
             Key::HoldS => d.hold_s = real(value)?,
-            Key::QuietS => d.quiet_s = real(value)?,
-            Key::QuietSigmas => d.quiet_sigmas = real(value)?,
-            Key::VelocitySigmas => d.velocity_sigmas = real(value)?,
-            Key::StopFraction => d.stop_fraction = real(value)?,
-            Key::CoastS => d.coast_s = real(value)?,
-            Key::RestS => d.rest_s = real(value)?,
-            Key::RestFactor => d.rest_factor = real(value)?,
-            Key::TiltS => d.tilt_s = real(value)?,
-            Key::LiftMS2 => d.lift_m_s2 = from_opt(value),
-            Key::LiftXyRatio => d.lift_xy_ratio = real(value)?,
             Key::BiasTauS => d.bias_tau_s = from_opt(value),
             Key::ClickFreezeS => d.click_freeze_s = real(value)?,
+            Key::FalseStartHours => d.false_start_hours = real(value)?,
+            Key::KnockHz => d.knock_hz = real(value)?,
+            Key::StrokeMaxS => d.stroke_max_s = real(value)?,
+            Key::LiftRiseS => d.lift_rise_s = from_opt(value),
+            Key::MountTiltDeg => d.mount_tilt_deg = real(value)?,
             Key::XAxis => m.x_axis = int(value)? as u8,
             Key::XSign => m.x_flip = flip(value)?,
             Key::YAxis => m.y_axis = int(value)? as u8,

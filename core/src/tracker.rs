@@ -15,7 +15,7 @@
 //! While calibrating, nothing moves and [`Tracker::take_counts`] returns zeros. Samples that
 //! the hardware lost are reported with [`Tracker::lost`] and held (the last codes repeated).
 //!
-//! While tracking with drift control ([`crate::stillness`]), a sample is integrated only
+//! While tracking with drift control ([`crate::drift`]), a sample is integrated only
 //! while the detector says a motion is under way; at every 5 ms tick the detector decides
 //! and the tracker carries out its [`Action`] on the axes: integrate a motion's onset from
 //! zero velocity, stop, discard a motion not yet delivered, or move the biases. A button
@@ -25,7 +25,7 @@
 use crate::axis::Axis;
 use crate::calibration::{Calibration, CalibrationError, Calibrator};
 use crate::config::{Config, ConfigError, Settings};
-use crate::stillness::{Action, Detector, State};
+use crate::drift::{Action, Detector, State};
 use crate::AdcCode;
 
 /// Number of axes the tracker integrates (X, Y, Z in the ADC's scan order).
@@ -182,6 +182,7 @@ impl Tracker {
             samples: 0,
             tick_var_q32: 0,
             long_run_var_q32: 0,
+            tick_lags_q32: [0; 3],
         }; AXES];
         for (i, cal) in self.calibrators.iter_mut().enumerate() {
             match cal.finish() {
@@ -349,6 +350,12 @@ impl Tracker {
             Phase::Tracking => self.detector.as_ref().map(Detector::state),
             Phase::Calibrating => None,
         }
+    }
+
+    /// Whether drift control holds a motion back from delivery (younger than its hold, or
+    /// held by the tilt tests); `false` without drift control or while calibrating.
+    pub fn is_holding(&self) -> bool {
+        self.phase == Phase::Tracking && self.detector.as_ref().is_some_and(Detector::holds)
     }
 
     /// Drains the motion since the last call as whole mouse counts `[x, y, z]`, remainders

@@ -353,6 +353,10 @@ pub struct Args {
     /// Only the hand model's families (issue 22).
     #[arg(long)]
     pub families: bool,
+    /// Trace one trial of a family, `FAMILY:K` (e.g. `drags:17`): every change of drift
+    /// control's state, with the cursor and the velocity.
+    #[arg(long, value_name = "FAMILY:K")]
+    pub trace: Option<String>,
 }
 
 /// Runs `cargo lab mouse`: the desk scenes, then the pointing scenes.
@@ -364,6 +368,16 @@ pub fn run(a: &Args) -> super::Outcome {
         return Err(super::Error::arg("strokes", a.strokes, "1..=10000"));
     }
     super::positive("rest-minutes", a.rest_minutes)?;
+    if let Some(t) = &a.trace {
+        let bad = || {
+            let names: Vec<&str> = families::Kind::ALL.iter().map(|k| k.name()).collect();
+            super::Error::arg("trace", t, format!("FAMILY:K, FAMILY one of {}", names.join(", ")))
+        };
+        let (name, k) = t.split_once(':').ok_or_else(bad)?;
+        let kind = families::Kind::from_name(name).ok_or_else(bad)?;
+        let k: usize = k.parse().map_err(|_| bad())?;
+        return Ok(families::trace(kind, Some(Drift::default()), a.seed, k));
+    }
     if a.families {
         let z = if a.quick {
             families::Sizes::QUICK

@@ -1,0 +1,243 @@
+//! Lift: the device leaves the desk. Tracking stops, as an optical mouse's does, until it
+//! rests again; then the zero is taken anew if it differs (set down on a slope).
+//!
+//! # Displacement, not acceleration (REFERENCE (j))
+//! A lift of `h` rising in `T_r` peaks at only `5.77 h / T_r^2` on Z (3 mm in 0.25 s: 0.28
+//! m/s^2, the size of a knock's or a machine's acceleration), but it moves the device by
+//! millimetres; a knock flexes the desk by 20-200 um and returns, a machine's 50 mg at 30 Hz
+//! moves it by 14 um. So the test is on the vertical displacement over the last `W` ticks
+//! from rest, each tick taken at its centre:
+//!
+//! ```text
+//! 2 d = D sum_{j < W} (2 j + 1) (s[t-j] 2^16 - D z)  = D ((2 R1 + R0) 2^16 - D z W^2)
+//! R0 = sum_j s[t-j],  R1 = sum_j j s[t-j]   (running: R1 += R0 - W s[t-W], R0 += s[t] - s[t-W])
+//! Var(2 d) = 4/3 q (W D)^3 + q (W D)^4 / N_b
+//! ```
+//!
+//! (exact integer sums of raw codes in Q16 LSB samples^2; the zero `z` subtracted when
+//! used). A lift is `|2 d_z| > K_LIFT sd(2 d_z) + r (|2 d_x| + |2 d_y|) + allowance`, for
+//! `P` ticks in a row:
+//!
+//! - `W = 0.6 T_r` for the slowest rise `T_r` ([`super::Drift::lift_rise_s`]): the window that
+//!   maximises a minimum-jerk rise's displacement over the noise's `W^1.5` (the maximum of
+//!   `step(u) / u^1.5` is at `u = 0.605`). ADXL335, 0.5 s: sd 0.21 mm, the threshold 1.1 mm
+//!   against 2.0 mm from a 3 mm lift;
+//! - `K_LIFT` from the false-start budget: one false lift per [`super::Drift::false_start_hours`],
+//!   each window of `W` ticks an independent two-sided chance (5.2 sd for 10^4 h);
+//! - `r = sin(mount_tilt_deg)`: the share of a horizontal displacement that a tilted
+//!   mounting or cross-axis sensitivity puts on Z;
+//! - the allowance: twice what the measured disturbance can move the device
+//!   ([`super::noise`]), a ring's or vibration's displacement amplitude;
+//! - `P = 1 / (2 knock_hz)` (25 ms): a knock's flex returns within half a ring's period; a
+//!   lift stays up.
+//!
+//! # Landing
+//! Lifted, nothing is integrated. Once the last eighth of the longest stroke (0.25 s, in
+//! blocks, [`super::tilt`]) is steady on every axis (its thirds agree within `K_TILT`
+//! sd plus the disturbance's allowance), the device rests: the zeros become that window's
+//! last third's means if any differs from the old zero by more than its noise allows (set
+//! down on a slope), and stay otherwise. The lift test then waits `W` ticks, until its
+//! window holds only ticks at the new zero.
+
+use super::noise::within;
+use super::ticks::offset;
+use super::{Action, Detector, DriftSettings, State, RING};
+
+/// The landing test's bound [sd], squared, Q8 (the tilt test's).
+const K_LAND2_Q8: u64 = 9 * 256;
+
+/// The lift test's coefficients.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LiftSettings {
+    /// Window `W` [ticks].
+    pub(crate) window: u32,
+    /// Persistence `P` [ticks].
+    pub(crate) persist: u32,
+    /// `K_LIFT^2` [Q8].
+    pub(crate) k2_q8: u64,
+    /// Mounting ratio `r` [Q16].
+    pub(crate) mount_q16: u64,
+}
+
+impl LiftSettings {
+    /// The coefficients for the slowest rise `rise_s`, `knock_hz`, `mount_tilt_deg`, a budget
+    /// of `hours` between false lifts, at ticks of `tick_s`; `None` if the window would not
+    /// fit the tick ring.
+    pub(crate) fn new(
+        rise_s: f64,
+        knock_hz: f64,
+        mount_tilt_deg: f64,
+        hours: f64,
+        tick_s: f64,
+    ) -> Option<Self> {
+        use crate::math::round_to_u64 as round;
+        let window = round(0.605 * rise_s / tick_s).max(2) as u32;
+        if window as usize >= RING {
+            return None;
+        }
+        let persist = libm::ceil(0.5 / knock_hz / tick_s).max(1.0) as u32;
+        let chances = hours * 3600.0 / (f64::from(window) * tick_s);
+        let k = super::z_of_tail(0.5 / chances);
+        let mount = libm::sin(mount_tilt_deg.clamp(0.0, 30.0).to_radians());
+        Some(Self {
+            window,
+            persist,
+            k2_q8: round(k * k * 256.0),
+            mount_q16: round(mount * 65_536.0),
+        })
+    }
+}
+
+/// The lift test's state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Lift {
+    r0: [u64; 3],
+    r1: [u64; 3],
+    /// Ticks in a row past the threshold.
+    above: u32,
+    /// Ticks before the window holds only ticks at the current zeros.
+    wait: u32,
+}
+
+impl Lift {
+    /// Takes the tick just closed into the running sums.
+    pub(crate) fn update(&mut self, l: &LiftSettings, stream: &super::ticks::TickStream) {
+        let w = u64::from(l.window);
+        for a in 0..3 {
+            let leaving = u64::from(stream.code(w + 1, a));
+            let entering = u64::from(stream.code(1, a));
+            self.r1[a] = self.r1[a] + self.r0[a] - w * leaving;
+            self.r0[a] = self.r0[a] + entering - leaving;
+        }
+        self.wait = self.wait.saturating_sub(1);
+    }
+
+    /// The window's sums from the stream's ring (at the start).
+    pub(crate) fn refill(&mut self, l: &LiftSettings, stream: &super::ticks::TickStream) {
+        let w = u64::from(l.window);
+        self.r0 = [0; 3];
+        self.r1 = [0; 3];
+        for j in 0..w {
+            for a in 0..3 {
+                let c = u64::from(stream.code(j + 1, a));
+                self.r0[a] += c;
+                self.r1[a] += j * c;
+            }
+        }
+        self.above = 0;
+    }
+}
+
+/// The thirds of the last `m` blocks on one axis: their offsets from `bias` [Q16 LSB
+/// samples] and their lengths [samples], oldest first.
+fn thirds(d: &Detector, s: &DriftSettings, axis: usize, m: u32, bias: i64) -> [(i64, u64); 3] {
+    let cut = [m, m - m / 3, m / 3, 0];
+    core::array::from_fn(|j| {
+        // Blocks back: from cut[j + 1] + 1 to cut[j] inclusive.
+        let (from, to) = (cut[j + 1] + 1, cut[j] + 1);
+        let n = u64::from(to - from) * u64::from(s.block) * u64::from(s.tick);
+        (offset(d.stream.blocks_sum(axis, from, to), n, bias), n)
+    })
+}
+
+impl Detector {
+    /// `2 d` on `axis` [Q16 LSB samples^2]: below `2^71`.
+    fn displacement2(&self, s: &DriftSettings, l: &LiftSettings, axis: usize, z: i64) -> i128 {
+        let d = i128::from(s.tick);
+        let w = i128::from(l.window);
+        let r = 2 * i128::from(self.lift.r1[axis]) + i128::from(self.lift.r0[axis]);
+        d * ((r << 16) - d * i128::from(z) * w * w)
+    }
+
+    /// Whether the device has left the desk (see the module docs).
+    pub(crate) fn lifted(&mut self, s: &DriftSettings, bias: [i64; 3]) -> bool {
+        let Some(l) = s.lift else {
+            return false;
+        };
+        if self.lift.wait > 0 {
+            return false;
+        }
+        let [x, y, z] = core::array::from_fn(|a| self.displacement2(s, &l, a, bias[a]));
+        let n = u128::from(l.window) * u128::from(s.tick);
+        // 4/3 q n^3 + q n^4 / N_b, in the squared units of 2 d.
+        let q = u128::from(self.noise[2].q_q32);
+        let nb = u128::from(self.bias_samples.max(1));
+        let var = q
+            .saturating_mul(4 * n * n * n / 3)
+            .saturating_add(q.saturating_mul(n * n * n / nb).saturating_mul(n));
+        let sd = crate::math::isqrt_u128(var);
+        let horizontal = (x.unsigned_abs() + y.unsigned_abs()).saturating_mul(u128::from(l.mount_q16)) >> 16;
+        let allow = u128::from(s.vib_displacement)
+            .saturating_mul(u128::from(self.disturbance[2].amp_q16));
+        let k = crate::math::isqrt_u128(u128::from(l.k2_q8) << 8); // K in Q8
+        let bound = ((k * sd) >> 8)
+            .saturating_add(horizontal)
+            .saturating_add(allow);
+        if z.unsigned_abs() > bound {
+            self.lift.above += 1;
+        } else {
+            self.lift.above = 0;
+        }
+        self.lift.above >= l.persist
+    }
+
+    /// Lifted, at a tick's end: wait until steady, then rest (at a new zero if it differs).
+    pub(crate) fn lifted_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        let m = s.land_blocks;
+        let blocks = u64::from(m) * u64::from(s.block);
+        if !self.stream.block_closed() || self.age() < blocks {
+            return Action::None;
+        }
+        let mut level = bias;
+        let mut moved = false;
+        let mut n_last = 0;
+        for (a, b) in bias.iter().enumerate() {
+            let t = thirds(self, s, a, m, *b);
+            let noise = &self.noise[a];
+            let steady = |i: usize, j: usize| {
+                let ((oi, ni), (oj, nj)) = (t[i], t[j]);
+                // The difference of two means, compared over the shorter length.
+                let n = ni.min(nj);
+                let di = crate::math::div_round(oi, ni as i64) * n as i64;
+                let dj = crate::math::div_round(oj, nj as i64) * n as i64;
+                let allow = ((u128::from(s.land_gain_q16)
+                    * u128::from(self.disturbance[a].amp_q16)
+                    * u128::from(n / u64::from(s.tick)))
+                    >> 16) as u64;
+                within(di - dj, noise.var(2 * n, u64::MAX), K_LAND2_Q8, 2 * allow)
+            };
+            if !(steady(0, 1) && steady(1, 2)) {
+                return Action::None;
+            }
+            let (o, n) = t[2];
+            n_last = n;
+            moved |= !within(o, noise.var(n, self.bias_samples), K_LAND2_Q8, 0);
+            level[a] = *b + crate::math::div_round(o, n as i64);
+        }
+        self.enter_still();
+        self.lift_wait(s);
+        if moved {
+            self.bias_samples = n_last;
+            Action::Rebias {
+                bias: level,
+                discard: false,
+            }
+        } else {
+            Action::Stop
+        }
+    }
+
+    /// After a new zero: the lift test waits until its window holds only ticks at it.
+    pub(crate) fn lift_wait(&mut self, s: &DriftSettings) {
+        if let Some(l) = s.lift {
+            self.lift.wait = l.window;
+        }
+    }
+}
+
+impl State {
+    /// Whether tracking is suspended (lifted).
+    pub const fn is_lifted(self) -> bool {
+        matches!(self, State::Lifted)
+    }
+}

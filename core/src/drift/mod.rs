@@ -1,0 +1,648 @@
+//! Drift control: at rest nothing moves; a hand's motion arrives whole, however slow, however
+//! long it glides; a tilt, a lift, a knock or a machine's vibration does not move the cursor.
+//!
+//! The paper proves that pure double integration drifts without bound. A mouse stays put by
+//! integrating only while the hand moves, and by deciding "moves" with statistics sized to
+//! the sensor's own noise (measured at calibration and learnt at rest), to what the desk adds
+//! (measured as it happens), and to stated limits of a hand on a desk (REFERENCE (i), (j)).
+//! No threshold here is a number fitted to a scene: each is a multiple of a measured sd, set
+//! by an error rate, or a hand limit in seconds or hertz ([`Drift`]), and each is derived in
+//! the module of its rule.
+//!
+//! # The parts, a file each
+//! | file | what it decides | from |
+//! |---|---|---|
+//! | [`ticks`] | the tick stream: 5 ms sums of the raw codes and of the integrated samples, the hand-band filter, 20 ms blocks | the rate |
+//! | [`noise`] | the noise model (calibrated, learnt at rest) and the disturbance (knock, vibration) measured as it happens | calibration, rest |
+//! | [`rest`] | the rest statistic: when a motion starts, and where it began | a false-start budget |
+//! | [`estimator`] | when a motion ends: quiet, and its velocity explained by its own uncertainty | error rates |
+//! | [`tilt`] | a steady one-sided acceleration is a tilt, not a hand; the zero followed at rest | the longest stroke |
+//! | [`lift`] | the device leaves the desk: vertical displacement, not acceleration | the slowest lift |
+//! | [`click`] | a click's jolt does not drag the cursor | the debounce |
+//!
+//! # States
+//! ```text
+//!        start test (replay from its onset)
+//! Still ----------------------------------------> Moving ----- one-sided too long --> held
+//!   ^  <-- quiet, velocity explained ------------- |  ^ <------ reverses, quiets ------ |
+//!   |  <-- one-sided and steady: a tilt, new zero ------------------------------------ |
+//!   +-- steady (new zero if it differs) --- Lifted <-- vertical displacement (any state)
+//!   +-- click freeze over ----------------- Frozen <-- button edge (any state)
+//! ```
+//!
+//! `Config::drift = None` is the paper's pure integration; every rule here is off then.
+
+use core::fmt;
+
+use crate::calibration::Calibration;
+
+pub mod click;
+pub mod estimator;
+pub mod lift;
+pub mod noise;
+pub mod rest;
+pub mod ticks;
+pub mod tilt;
+
+use noise::{Disturbance, Noise};
+use ticks::TickStream;
+
+/// Shortest detector tick [s]; a tick is `ceil(fs * TICK_S)` samples, so that windows counted
+/// in ticks hold at every rate; at rates where `fs * TICK_S` is not whole a tick is longer
+/// than 5 ms (8.3 ms at 240 Hz), at 100 Hz it is one sample (10 ms).
+pub const TICK_S: f64 = 0.005;
+/// Ticks of raw-code sums kept (320 ms at 5 ms ticks): the longest tick window (the lift's,
+/// the hand-band filter's, the quiet test's).
+pub const RING: usize = 64;
+/// Ticks of integrated-sample sums kept for replaying a motion's onset (320 ms at 5 ms
+/// ticks; a motion replays at most `REPLAY - 1` of them, the oldest primes the trapezoid).
+pub const REPLAY: usize = 64;
+/// 20 ms blocks of raw-code sums kept for the tilt tests (1.28 s at 5 ms ticks): at least
+/// half the longest stroke ([`Drift::stroke_max_s`] up to 2.4 s).
+pub const BLOCKS: usize = 64;
+/// Length of a block [s] (rounded to whole ticks).
+pub const BLOCK_S: f64 = 0.02;
+
+/// Samples per detector tick at `fs_hz`: `ceil(fs_hz * 5 / 1000)` ([`TICK_S`], computed in
+/// integers so that whole products stay whole), `1..=2^14`.
+pub fn tick_samples(fs_hz: u32) -> u32 {
+    let ms = (TICK_S * 1000.0) as u64; // 5
+    (((u64::from(fs_hz) * ms).div_ceil(1000)) as u32).clamp(1, 1 << 14)
+}
+
+/// Drift control's settings: a false-start budget, and stated limits of a hand on a desk, in
+/// physical units. Everything else is derived from these and from the noise measured at
+/// calibration (see each part's module).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drift {
+    /// Mean time at rest between false starts that the start tests are sized to
+    /// [device-hours], `1..=1e9`. The thresholds grow with its logarithm: 10x longer costs a
+    /// slow stroke about one tick of detection delay.
+    pub false_start_hours: f64,
+    /// Motion younger than this is not delivered, and a button edge discards it [s],
+    /// `0..=0.1`. Cover the button's debounce and the housekeeping period.
+    pub hold_s: f64,
+    /// The lowest frequency of what is not a hand [Hz]: a desk top's ring after a knock, a
+    /// machine's vibration. `5..=200`; a hand on a desk moves below about 10 Hz (REFERENCE
+    /// (j)). Sets the hand-band filter and the disturbance allowances.
+    pub knock_hz: f64,
+    /// The longest stroke of a hand [s], `0.2..=2.4`: its acceleration keeps one sign for at
+    /// most half of it. Sets the tilt tests.
+    pub stroke_max_s: f64,
+    /// The slowest rise of a lift to be caught [s], `0.05..=0.5`, or `None` for no lift
+    /// detection (a two-axis sensor). Sets the lift test's window.
+    pub lift_rise_s: Option<f64>,
+    /// Mounting tilt and cross-axis sensitivity allowed for [degrees], `0..=30`: that share
+    /// of a horizontal displacement may appear on the vertical axis without being a lift.
+    pub mount_tilt_deg: f64,
+    /// Time constant of the zero's tracking at rest [s], `0.2..1e6`; `None` disables it.
+    pub bias_tau_s: Option<f64>,
+    /// Motion suppressed after a button edge [s], `0..=2`.
+    pub click_freeze_s: f64,
+}
+
+impl Default for Drift {
+    /// The defaults, each with its reason:
+    /// - `false_start_hours` 1e4: at rest, a false start less than once in 10 000
+    ///   device-hours (so 200 device-hours show none with 98 % probability);
+    /// - `hold_s` 16 ms: a button edge 10 ms after the finger (debounce and housekeeping),
+    ///   plus the 5 ms tick within which the onset of a click's jolt is placed;
+    /// - `knock_hz` 20: a desk top rings at 20-60 Hz, a machine at 30-100 Hz, a hand stays
+    ///   below 10 Hz (REFERENCE (j));
+    /// - `stroke_max_s` 2 s: the longest pointing stroke of the hand model (issue 22);
+    /// - `lift_rise_s` 0.5 s: the slowest lift of the hand model;
+    /// - `mount_tilt_deg` 5: a sensor soldered within 4 degrees of the case's floor and the
+    ///   ADXL335's 1 % cross-axis sensitivity;
+    /// - `bias_tau_s` 2 s: the tracked zero lags a temperature ramp by `rate * tau`, far
+    ///   below a tick's sd for the ADXL335's drift; its own noise `ND / sqrt(2 tau)`;
+    /// - `click_freeze_s` 0.15 s: the jolt of a click.
+    fn default() -> Self {
+        Self {
+            false_start_hours: 1e4,
+            hold_s: 0.016,
+            knock_hz: 20.0,
+            stroke_max_s: 2.0,
+            lift_rise_s: Some(0.5),
+            mount_tilt_deg: 5.0,
+            bias_tau_s: Some(2.0),
+            click_freeze_s: 0.15,
+        }
+    }
+}
+
+/// A [`Drift`] field that failed validation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum DriftError {
+    /// `false_start_hours` not finite or outside `1..=1e9`.
+    FalseStart,
+    /// `hold_s` outside `0..=0.1`.
+    Hold,
+    /// `knock_hz` outside `5..=200`, or its filter longer than the tick ring at this rate.
+    Knock,
+    /// `stroke_max_s` outside `0.2..=2.4`, or half of it longer than the block ring.
+    Stroke,
+    /// `lift_rise_s` outside `0.05..=0.5`, or its window longer than the tick ring.
+    Lift,
+    /// `mount_tilt_deg` outside `0..=30`.
+    MountTilt,
+    /// `bias_tau_s` below 0.2 s or not below 1e6 s.
+    BiasTau,
+    /// `click_freeze_s` outside `0..=2`.
+    ClickFreeze,
+}
+
+impl fmt::Display for DriftError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::FalseStart => "drift.false_start_hours: must be within 1..=1e9 device-hours",
+            Self::Hold => "drift.hold_s: must be within 0..=0.1 s",
+            Self::Knock => "drift.knock_hz: must be within 5..=200 Hz (and its filter fit 320 ms)",
+            Self::Stroke => "drift.stroke_max_s: must be within 0.2..=2.4 s",
+            Self::Lift => "drift.lift_rise_s: must be within 0.05..=0.5 s, or off",
+            Self::MountTilt => "drift.mount_tilt_deg: must be within 0..=30 degrees",
+            Self::BiasTau => "drift.bias_tau_s: must be at least 0.2 s and below 1e6 s, or off",
+            Self::ClickFreeze => "drift.click_freeze_s: must be within 0..=2 s",
+        })
+    }
+}
+
+/// Standard normal upper tail `P(Z > z)`.
+fn upper_tail(z: f64) -> f64 {
+    0.5 * libm::erfc(z / core::f64::consts::SQRT_2)
+}
+
+/// The `z` with `P(Z > z) = p`, `0 < p < 1/2`, by bisection on [`upper_tail`].
+fn z_of_tail(p: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 40.0);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if upper_tail(mid) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+/// Siegmund's average run length of a one-sided CUSUM to a false alarm, with reference value
+/// `kappa` and threshold `b` (both in sd of the increments), on unit-variance Gaussian
+/// increments: `(e^(2 kappa b) - 1 - 2 kappa b) / (2 kappa^2)` [increments]. For a sum of
+/// smooth (filtered) increments there is no overshoot and `b = h`; for raw ticks `b = h +
+/// 1.166` (REFERENCE (j)).
+pub fn cusum_arl(kappa: f64, b: f64) -> f64 {
+    let x = 2.0 * kappa * b;
+    (libm::expm1(x) - x) / (2.0 * kappa * kappa)
+}
+
+/// The `b` at which [`cusum_arl`] reaches `arl`, by bisection.
+fn cusum_threshold(kappa: f64, arl: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 1000.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if cusum_arl(kappa, mid) < arl {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+/// Gain of a boxcar of `n` samples at `x` cycles per sample: `|sin(pi n x) / (n sin(pi x))|`
+/// (1 at `x = 0`).
+fn boxcar(n: u32, x: f64) -> f64 {
+    let s = libm::sin(core::f64::consts::PI * x);
+    if s.abs() < 1e-12 {
+        return 1.0;
+    }
+    (libm::sin(core::f64::consts::PI * f64::from(n) * x) / (f64::from(n) * s)).abs()
+}
+
+/// The largest of `gain(f)` [dimensionless] for `f` from `lo` to `hi` [Hz], on a 0.25 Hz grid.
+fn max_over(lo: f64, hi: f64, gain: impl Fn(f64) -> f64) -> f64 {
+    let mut best = 0.0f64;
+    let mut f = lo;
+    while f <= hi {
+        best = best.max(gain(f));
+        f += 0.25;
+    }
+    best
+}
+
+/// `round(x * 2^16)` for a finite `0 <= x < 2^47`.
+fn q16(x: f64) -> u64 {
+    crate::math::round_to_u64(x * 65_536.0)
+}
+
+/// Validated drift-control coefficients (integers; sd multiples in Q8, gains in Q16). The
+/// derivation of each is in the module of the rule that uses it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DriftSettings {
+    /// Samples per tick `D`.
+    pub(crate) tick: u32,
+    /// Ticks per block.
+    pub(crate) block: u32,
+    /// The hand-band filter's two boxcars [ticks] and its delay [ticks].
+    pub(crate) band: [u32; 2],
+    pub(crate) band_delay: u32,
+    /// Largest gain of the hand-band filter above `knock_hz` (Q16).
+    pub(crate) band_gain_q16: u64,
+    /// Largest gain of the quiet window above `knock_hz` (Q16).
+    pub(crate) quiet_gain_q16: u64,
+    /// The tilt test's sub-window [blocks] and its largest gain above `knock_hz` (Q16).
+    pub(crate) sub_blocks: u32,
+    pub(crate) sub_gain_q16: u64,
+    /// The landing test's window [blocks] and the largest gain of a third of it (Q16).
+    pub(crate) land_blocks: u32,
+    pub(crate) land_gain_q16: u64,
+    /// The disturbance's average: `2^dist_shift` ticks; its margin over the noise (Q8).
+    pub(crate) dist_shift: u32,
+    pub(crate) dist_margin_q8: u64,
+    /// A disturbance's velocity amplitude per unit of its tick-sum amplitude (Q16).
+    pub(crate) vib_velocity_q16: u64,
+    /// A disturbance's displacement amplitude per unit of its tick-sum amplitude, in the
+    /// lift test's units (`2 d`, Q16 LSB samples^2 per Q16 LSB samples, Q0).
+    pub(crate) vib_displacement: u64,
+    /// The slow CUSUM's alarm, the fast CUSUM's alarm [sd, Q8].
+    pub(crate) alarm_q8: [u64; 2],
+    /// Hold of a new motion [samples].
+    pub(crate) hold: u64,
+    /// Quiet window [ticks].
+    pub(crate) quiet_ticks: u32,
+    /// Tilt durations [blocks]: the one-sided hold, the tilt's confirmation.
+    pub(crate) tilt_blocks: [u32; 2],
+    /// The lift test: window [ticks], persistence [ticks], sd multiple squared (Q8), mounting
+    /// ratio (Q16); `None` without lift detection.
+    pub(crate) lift: Option<lift::LiftSettings>,
+    /// Bias tracking's longest average [samples].
+    pub(crate) bias_samples_max: Option<u64>,
+    /// Click freeze [samples].
+    pub(crate) freeze: u32,
+    /// Predicted mean time between false starts at rest [ticks], for reports.
+    pub(crate) arl_ticks: u64,
+    /// The rate [Hz].
+    pub(crate) fs_hz: u32,
+}
+
+impl Drift {
+    /// Validates for sampling rate `fs_hz` and a scale of `m_s2_per_lsb` (both already
+    /// validated by [`crate::Config::validate`]).
+    ///
+    /// # Errors
+    /// The first invalid field.
+    pub fn validate(&self, fs_hz: u32, m_s2_per_lsb: f64) -> Result<DriftSettings, DriftError> {
+        use crate::math::round_to_u64 as round;
+        let _ = m_s2_per_lsb; // every threshold is in sd of the measured noise
+        let within = |v: f64, lo: f64, hi: f64| v.is_finite() && v >= lo && v <= hi;
+        let fs = f64::from(fs_hz);
+        let tick = tick_samples(fs_hz);
+        let tick_s = f64::from(tick) / fs;
+        let f_tick = 1.0 / tick_s;
+        if !within(self.false_start_hours, 1.0, 1e9) {
+            return Err(DriftError::FalseStart);
+        }
+        if !within(self.hold_s, 0.0, 0.1) {
+            return Err(DriftError::Hold);
+        }
+        if !within(self.knock_hz, 5.0, 200.0) {
+            return Err(DriftError::Knock);
+        }
+        // The hand-band filter: boxcars of 1 / knock_hz (a null there) and two thirds of it
+        // (a null at 1.5 knock_hz), in whole ticks.
+        let l1 = round(1.0 / (self.knock_hz * tick_s)).max(1) as u32;
+        let l2 = round(2.0 / (3.0 * self.knock_hz * tick_s)).max(1) as u32;
+        if (l1 + l2) as usize > RING - 2 {
+            return Err(DriftError::Knock);
+        }
+        if !within(self.stroke_max_s, 0.2, 2.4) {
+            return Err(DriftError::Stroke);
+        }
+        let block = round(BLOCK_S / tick_s).max(1) as u32;
+        let block_s = f64::from(block) * tick_s;
+        // Tilt durations (tilt.rs): the hold after an eighth of the longest stroke (its
+        // runaway bound), the confirmation after half of it plus the sub-window.
+        let sub_blocks = round(tilt::SUB_S / block_s).max(1) as u32;
+        let hold_blocks = (round(self.stroke_max_s / 8.0 / block_s) as u32).max(sub_blocks + 1);
+        let confirm = round(self.stroke_max_s / 2.0 / block_s) as u32 + sub_blocks;
+        // The landing window (lift.rs): the hold's, in thirds.
+        let land_blocks = hold_blocks.max(3);
+        if land_blocks as usize > BLOCKS - 1 {
+            return Err(DriftError::Stroke);
+        }
+        let lift = match self.lift_rise_s {
+            None => None,
+            Some(r) if within(r, 0.05, 0.5) => Some(
+                lift::LiftSettings::new(
+                    r,
+                    self.knock_hz,
+                    self.mount_tilt_deg,
+                    self.false_start_hours,
+                    tick_s,
+                )
+                .ok_or(DriftError::Lift)?,
+            ),
+            Some(_) => return Err(DriftError::Lift),
+        };
+        if !within(self.mount_tilt_deg, 0.0, 30.0) {
+            return Err(DriftError::MountTilt);
+        }
+        let bias_samples_max = match self.bias_tau_s {
+            None => None,
+            Some(tau) if within(tau, 0.2, 1e6) && tau < 1e6 => Some(round(tau * fs).max(1)),
+            Some(_) => return Err(DriftError::BiasTau),
+        };
+        if !within(self.click_freeze_s, 0.0, 2.0) {
+            return Err(DriftError::ClickFreeze);
+        }
+
+        // The start tests (rest.rs): 8 one-sided CUSUMs (slow and fast, X and Y, both
+        // signs) share the budget.
+        let arl = self.false_start_hours * 3600.0 / tick_s * 8.0;
+        let slow = cusum_threshold(rest::KAPPA[0], arl);
+        let fast = cusum_threshold(rest::KAPPA[1], arl) - 1.166;
+        let arl_ticks = round(self.false_start_hours * 3600.0 / tick_s);
+
+        // Gains above knock_hz, up to Nyquist (ticks and windows average within a tick).
+        let nyq = fs / 2.0;
+        let sample_box = |f: f64| boxcar(tick, f / fs);
+        let band_gain = max_over(self.knock_hz, nyq, |f| {
+            sample_box(f) * boxcar(l1, f / f_tick) * boxcar(l2, f / f_tick)
+        });
+        let quiet_ticks = round(0.02 / tick_s).max(1) as u32;
+        let quiet_gain = max_over(self.knock_hz, nyq, |f| {
+            sample_box(f) * boxcar(quiet_ticks, f / f_tick)
+        });
+        let window_gain = |ticks: u32| {
+            max_over(self.knock_hz, nyq, |f| {
+                sample_box(f) * boxcar(ticks.max(1), f / f_tick)
+            })
+        };
+        // A sinusoid of tick-sum amplitude A at f has a per-sample amplitude of at most
+        // A / (D |box(f)|), a velocity amplitude of that times fs / (2 pi f) and a
+        // displacement amplitude times (fs / 2 pi f)^2 (in samples). Up to 0.8 of the tick
+        // rate, where the tick's own boxcar keeps at least 0.23 of it.
+        let top = nyq.min(0.8 * f_tick);
+        let tau = core::f64::consts::TAU;
+        let vel = max_over(self.knock_hz, top.max(self.knock_hz), |f| {
+            fs / (tau * f * f64::from(tick) * sample_box(f).max(1e-3))
+        });
+        let disp = max_over(self.knock_hz, top.max(self.knock_hz), |f| {
+            let w = fs / (tau * f);
+            w * w / (f64::from(tick) * sample_box(f).max(1e-3))
+        });
+        // The disturbance's average over about 160 ms, and its margin: 3 relative sd of an
+        // average of 2^k / 2 independent squares (noise.rs).
+        let dist_shift = (libm::round(libm::log2(0.16 / tick_s)) as i32).clamp(2, 10) as u32;
+        let dist_margin = 1.0 + 3.0 * libm::sqrt(2.0 / f64::from(1u32 << dist_shift));
+        Ok(DriftSettings {
+            tick,
+            block,
+            dist_shift,
+            dist_margin_q8: round(dist_margin * 256.0),
+            band: [l1, l2],
+            band_delay: (l1 + l2 - 2) / 2,
+            band_gain_q16: q16(band_gain),
+            quiet_gain_q16: q16(quiet_gain),
+            sub_blocks,
+            sub_gain_q16: q16(window_gain(sub_blocks * block)),
+            land_blocks,
+            land_gain_q16: q16(window_gain(land_blocks / 3 * block)),
+            vib_velocity_q16: q16(vel),
+            // 2 d (the lift test's units), peak to peak from an arbitrary start: 4x.
+            vib_displacement: round(4.0 * disp),
+            alarm_q8: [round(slow * 256.0), round(fast * 256.0)],
+            hold: round(self.hold_s * fs),
+            quiet_ticks,
+            tilt_blocks: [hold_blocks, confirm],
+            lift,
+            bias_samples_max,
+            freeze: round(self.click_freeze_s * fs) as u32,
+            arl_ticks,
+            fs_hz,
+        })
+    }
+}
+
+impl DriftSettings {
+    /// Samples per detector tick.
+    pub const fn tick_samples(&self) -> u32 {
+        self.tick
+    }
+    /// Click freeze [samples].
+    pub const fn freeze_samples(&self) -> u32 {
+        self.freeze
+    }
+    /// Hold of a new motion [samples].
+    pub const fn hold_samples(&self) -> u64 {
+        self.hold
+    }
+    /// The start tests' alarms [sd]: the slow (hand-band) CUSUM's and the fast one's.
+    pub fn alarms_sd(&self) -> [f64; 2] {
+        self.alarm_q8.map(|a| a as f64 / 256.0)
+    }
+    /// The predicted mean time between false starts at rest [s], from the CUSUMs' Gaussian
+    /// run lengths (for reports beside the measured rate).
+    pub fn false_start_interval_s(&self) -> f64 {
+        self.arl_ticks as f64 * f64::from(self.tick) / f64::from(self.fs_hz)
+    }
+}
+
+/// What drift control is doing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum State {
+    /// At rest: nothing is integrated; the zero follows slow drift.
+    Still,
+    /// A motion: every sample is integrated.
+    Moving,
+    /// Lifted (or tilted off the desk): nothing is integrated until the device is steady.
+    Lifted,
+    /// After a button edge: nothing is integrated for the click freeze.
+    Frozen,
+}
+
+/// What the tracker must do to its axes after a sample.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// Nothing.
+    None,
+    /// A motion started: integrate the last `ticks` complete ticks and the current tick's
+    /// samples so far ([`Detector::replay`]) from zero velocity, then every sample.
+    Start {
+        /// Complete ticks to replay, `0..REPLAY`.
+        ticks: usize,
+    },
+    /// The motion ended: zero velocity; what was integrated stays.
+    Stop,
+    /// The motion was held and must not be delivered: zero velocity and position.
+    Discard,
+    /// New zeros (Q16 counts) after a tilt or a landing; zero velocity, and with `discard`
+    /// the held motion (the tilt's runaway) is dropped too.
+    Rebias {
+        /// The zeros [Q16 counts].
+        bias: [i64; 3],
+        /// Drop the position not yet delivered.
+        discard: bool,
+    },
+    /// New zeros (Q16 counts) from tracking at rest; nothing else changes.
+    TrackBias([i64; 3]),
+}
+
+/// Drift-control state of a three-axis device (X, Y horizontal, Z vertical); see the module
+/// docs and each part's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Detector {
+    pub(crate) stream: TickStream,
+    pub(crate) noise: [Noise; 3],
+    pub(crate) disturbance: [Disturbance; 3],
+    pub(crate) learn: noise::Learn,
+    pub(crate) rest: rest::Rest,
+    pub(crate) motion: estimator::Motion,
+    pub(crate) tilt: tilt::Tilt,
+    pub(crate) lift: lift::Lift,
+    pub(crate) click: click::Click,
+    pub(crate) state: State,
+    /// The tick at which the current state was entered.
+    pub(crate) entered: u64,
+    /// Samples the current zero is averaged over.
+    pub(crate) bias_samples: u64,
+}
+
+impl Detector {
+    /// A detector starting Still after a calibration of `cal` (the device has just been seen
+    /// at rest).
+    pub fn new(s: &DriftSettings, cal: &[Calibration; 3]) -> Self {
+        let stream = TickStream::new(s, cal);
+        let noise = cal.map(|c| Noise::from_calibration(s, &c));
+        let disturbance = cal.map(|c| Disturbance::new(s, &c));
+        let mut d = Self {
+            stream,
+            noise,
+            disturbance,
+            learn: noise::Learn::default(),
+            rest: rest::Rest::default(),
+            motion: estimator::Motion::default(),
+            tilt: tilt::Tilt::default(),
+            lift: lift::Lift::default(),
+            click: click::Click::default(),
+            state: State::Still,
+            entered: 0,
+            bias_samples: u64::from(cal[0].samples),
+        };
+        if let Some(l) = s.lift {
+            d.lift.refill(&l, &d.stream);
+        }
+        d.enter_still();
+        d
+    }
+
+    /// The current state.
+    pub const fn state(&self) -> State {
+        self.state
+    }
+
+    /// Whether a motion is held back from delivery: younger than the hold, or held by the
+    /// tilt tests and not yet confirmed or released.
+    pub const fn holds(&self) -> bool {
+        matches!(self.state, State::Moving) && (self.click.hold_left > 0 || self.tilt.held())
+    }
+
+    /// The sample stream was interrupted (a sampling restart): whatever was moving is over,
+    /// and the detector waits at rest for the next start.
+    pub fn restart(&mut self) {
+        self.enter_still();
+    }
+
+    /// Adds one sample: its raw `codes`, its integrated values `y` (Q16 counts), the axes'
+    /// zeros (Q16 counts) and velocities (`W = 2 V`, [`crate::IntegratorState::velocity`])
+    /// after it was integrated (if it was). Returns what the tracker must do.
+    pub fn push(
+        &mut self,
+        s: &DriftSettings,
+        codes: [u16; 3],
+        y: [i64; 3],
+        bias: [i64; 3],
+        velocity: [i64; 3],
+    ) -> Action {
+        self.stream.push(codes, y);
+        match self.state {
+            State::Moving => self.motion.sample(&mut self.click),
+            State::Frozen => {
+                if self.click.frozen_sample() {
+                    self.enter_still();
+                }
+            }
+            State::Still | State::Lifted => {}
+        }
+        if !self.stream.tick_done(s) {
+            if self.state == State::Still && !self.rest.within_headroom(&self.stream, bias) {
+                return self.early_start(s, bias);
+            }
+            return Action::None;
+        }
+        self.stream.close_tick(s);
+        for (a, d) in self.disturbance.iter_mut().enumerate() {
+            d.update(s, &self.stream, a);
+        }
+        if let Some(l) = s.lift {
+            self.lift.update(&l, &self.stream);
+        }
+        let action = self.tick(s, bias, velocity);
+        self.rest
+            .refresh_headroom(s, &self.noise, &self.disturbance, self.state);
+        action
+    }
+
+    /// Decisions at the end of a tick.
+    fn tick(&mut self, s: &DriftSettings, bias: [i64; 3], velocity: [i64; 3]) -> Action {
+        if matches!(self.state, State::Still | State::Moving) && self.lifted(s, bias) {
+            let held = self.holds();
+            self.enter(State::Lifted);
+            return if held { Action::Discard } else { Action::Stop };
+        }
+        match self.state {
+            State::Still => self.still_tick(s, bias),
+            State::Moving => self.moving_tick(s, bias, velocity),
+            State::Lifted => self.lifted_tick(s, bias),
+            State::Frozen => Action::None,
+        }
+    }
+
+    /// Enters `state` at this tick.
+    pub(crate) fn enter(&mut self, state: State) {
+        self.state = state;
+        self.entered = self.stream.ticks();
+    }
+
+    /// Enters Still: the start tests begin afresh from here.
+    pub(crate) fn enter_still(&mut self) {
+        self.enter(State::Still);
+        self.learn = noise::Learn::default();
+        self.tilt = tilt::Tilt::default();
+        self.rest.reset(self.stream.ticks());
+        self.rest.no_headroom_test();
+    }
+
+    /// Ticks since the current state was entered.
+    pub(crate) fn age(&self) -> u64 {
+        self.stream.ticks() - self.entered
+    }
+
+    /// The integrated-sample sums of the last `ticks` complete ticks (`< REPLAY`), oldest
+    /// first, then those of the current tick so far (if it has samples).
+    pub fn replay(
+        &self,
+        s: &DriftSettings,
+        ticks: usize,
+    ) -> impl Iterator<Item = [crate::integrator::BlockSums; 3]> + '_ {
+        self.stream.replay(s, ticks)
+    }
+
+    /// The last integrated sample of the tick before the last `ticks` complete ones (Q16
+    /// counts), to prime a trapezoid replay; `None` if there is no such tick.
+    pub fn replay_prev(&self, ticks: usize) -> Option<[i64; 3]> {
+        self.stream.replay_prev(ticks)
+    }
+}

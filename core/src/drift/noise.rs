@@ -1,0 +1,201 @@
+//! Noise learning: what the sensor's noise is (calibrated, then learnt at rest), and what
+//! the desk adds as it happens (a knock's ring, a machine's vibration).
+//!
+//! # The noise model (REFERENCE (i))
+//! Per axis, from the calibration ([`Calibration`]): `q`, the long-run variance per sample (a
+//! sum of `n >> D` samples at rest has variance `q n`), and the tick sums' variance and lag
+//! covariances `g0 .. g3` (per sample). The calibration's `q` comes from one second and is
+//! uncertain by `sqrt(8 / k)` relative (`k` ticks, about `k / 4` independent at the ADXL335's
+//! correlation: 20 % for 1 s): the detector starts from its upper 2-sd bound and learns `q`
+//! at rest, the squared offset of each block of [`LEARN_TICKS`] rest ticks (80 ms at 5 ms
+//! ticks: a 50 Hz pole's correlation is gone, so a block sum's variance is `q` times its
+//! length within 4 %) averaged over [`LEARN_BLOCKS`] blocks (about 10 s of rest; relative sd
+//! of the estimate `sqrt(2 / 256)`, 9 %). Each test's sd comes from `q`: the sd of one
+//! tick's sum is `sqrt(q D)`, of `n` samples `sqrt(q n)` (long-run: conservative for a
+//! single tick, whose variance `g0 D` is smaller).
+//!
+//! # The disturbance
+//! What is not the sensor's noise and not a hand: a knock's ring, a machine's vibration,
+//! above `knock_hz` (REFERENCE (j)). It is measured, per axis and as it happens, by the
+//! hand-band filter's residual `rho = L1 L2 s[t - delay] - F2[t]` (the tick sum at the
+//! filter's centre against the filter: the hand's band removed, [`super::ticks`]): an
+//! exponential average `P` of `rho^2` over `2^k` ticks (160 ms), against its noise-only
+//! expectation `E = sum_ij c_i c_j C_|i-j|` (the residual's taps `c` over the calibration's
+//! tick covariances `C_l = D g_l`, zero beyond lag 3). `P` is itself noisy: with about `2^k /
+//! 2` independent terms its relative sd is `sqrt(2 / 2^k)`, so only `P` above `E` by 3 of
+//! those counts. A sinusoid of tick-sum amplitude `A` adds `A^2 / 2` to `P` (times `L1 L2`
+//! squared, the residual passing it whole above `knock_hz`): the disturbance's amplitude is
+//! `A = sqrt(2 (P - E)) / (L1 L2)`. Each test then allows what a sinusoid of amplitude `A` at
+//! or above `knock_hz` can do through its own window (the gains computed at validation): a
+//! machine's vibration raises the thresholds by what it can fake, and no more.
+//!
+//! A brisk stroke's own content near 10 Hz leaks into the residual (the filter passes 10 Hz
+//! at about 0.6): its disturbance is counted too, which only widens the tests while it lasts.
+
+use crate::calibration::Calibration;
+
+use super::ticks::TickStream;
+use super::DriftSettings;
+
+/// Ticks per block of the noise learnt at rest.
+pub const LEARN_TICKS: u32 = 16;
+/// Blocks in the learnt noise's exponential average.
+pub const LEARN_BLOCKS: u64 = 128;
+/// The floor of a learnt variance [LSB^2 per sample, Q32]: a quarter LSB^2 (a noise-free
+/// sensor still flickers between two codes).
+const VAR_FLOOR: u64 = 1 << 30;
+
+/// Per-axis noise in the detector's integer units.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Noise {
+    /// Long-run variance per sample `q` [LSB^2, Q32].
+    pub(crate) q_q32: u64,
+    /// The sd of one tick's sum, `sqrt(q D)` [Q16 LSB samples].
+    pub(crate) sd_q16: i64,
+}
+
+impl Noise {
+    /// The noise with long-run variance `q_q32` at tick length `D`.
+    pub(crate) fn new(s: &DriftSettings, q_q32: u64) -> Self {
+        // sqrt(q D) in Q16: the square root of a Q32 value.
+        let sd = crate::math::isqrt_u128(u128::from(q_q32) * u128::from(s.tick)) as i64;
+        Self { q_q32, sd_q16: sd }
+    }
+
+    /// From a calibration: its `q` at the upper 2-sd bound of its own uncertainty.
+    pub(crate) fn from_calibration(s: &DriftSettings, cal: &Calibration) -> Self {
+        let ticks = u64::from(cal.samples / s.tick).max(1);
+        let q = u128::from(cal.long_run_var_q32);
+        // 1 + 2 sqrt(8 / k), Q8.
+        let inflate_q8 = 256 + crate::math::isqrt_u128(8 * 4 * 65_536 / u128::from(ticks));
+        let q = ((q * inflate_q8) >> 8).min(u128::from(u64::MAX)) as u64;
+        Self::new(s, q)
+    }
+
+    /// The variance of a sum of `n` samples whose zero was averaged over `nb` samples:
+    /// `q (n + n^2 / nb)` [Q32 LSB^2 samples^2 ... in the units of a squared Q16 sum].
+    pub(crate) fn var(&self, n: u64, nb: u64) -> u128 {
+        u128::from(self.q_q32)
+            .saturating_mul(u128::from(n) + crate::math::square_over(n, nb.max(1)))
+    }
+}
+
+/// Whether `|d| <= k sqrt(var) + allow`, with `k^2` in Q8 (`var` and `d^2` in the same
+/// units: Q32 squares of Q16 sums).
+pub(crate) fn within(d: i64, var: u128, k2_q8: u64, allow: u64) -> bool {
+    let d = d.unsigned_abs();
+    if d <= allow {
+        return true;
+    }
+    let e = u128::from(d - allow);
+    e * e <= var.saturating_mul(u128::from(k2_q8)) >> 8
+}
+
+/// The noise learnt at rest: per axis the sum of the current block's ticks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Learn {
+    sum: [u64; 3],
+    ticks: u32,
+}
+
+impl Learn {
+    /// Adds a rest tick's code sums; every [`LEARN_TICKS`] ticks the block's squared offset
+    /// per sample is averaged into each axis's `q`.
+    pub(crate) fn push(
+        &mut self,
+        s: &DriftSettings,
+        noise: &mut [Noise; 3],
+        codes: [u32; 3],
+        bias: [i64; 3],
+    ) {
+        for (sum, &c) in self.sum.iter_mut().zip(&codes) {
+            *sum += u64::from(c);
+        }
+        self.ticks += 1;
+        if self.ticks < LEARN_TICKS {
+            return;
+        }
+        let n = i128::from(LEARN_TICKS) * i128::from(s.tick);
+        for (a, &b) in bias.iter().enumerate() {
+            // Offset in Q16 LSB samples; its square over n is a variance per sample in Q32.
+            let e = (i128::from(self.sum[a]) << 16) - n * i128::from(b); // < 2^59
+            let var = crate::math::square_over(e.unsigned_abs() as u64, n as u64)
+                .min(u128::from(u64::MAX));
+            let q = u128::from(noise[a].q_q32);
+            let m = u128::from(LEARN_BLOCKS);
+            let q = ((q * (m - 1) + var) / m).max(u128::from(VAR_FLOOR)) as u64;
+            noise[a] = Noise::new(s, q);
+        }
+        *self = Self::default();
+    }
+}
+
+/// The disturbance on one axis, measured as it happens; see the module docs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Disturbance {
+    /// Exponential average of the squared residual [LSB^2 (L1 L2)^2].
+    power: u128,
+    /// Its noise-only expectation `E` [LSB^2 (L1 L2)^2, Q32].
+    expect_q32: u128,
+    /// The amplitude `A` of a sinusoid that would explain the excess [Q16 LSB samples, per
+    /// tick sum]; 0 while `P` is within its own noise of `E`.
+    pub(crate) amp_q16: u64,
+}
+
+impl Disturbance {
+    /// The noise-only disturbance of a calibration: `P = E`.
+    pub(crate) fn new(s: &DriftSettings, cal: &Calibration) -> Self {
+        let [l1, l2] = s.band.map(|l| l as usize);
+        let l = (l1 * l2) as i128;
+        // The residual's taps: minus the trapezoid, plus L1 L2 at the centre.
+        let taps = l1 + l2 - 1;
+        let mut c = [0i128; super::RING];
+        for i in 0..l1 {
+            for j in 0..l2 {
+                c[i + j] -= 1;
+            }
+        }
+        c[s.band_delay as usize] += l;
+        let d = i128::from(s.tick);
+        let cov = |lag: usize| -> i128 {
+            match lag {
+                0 => i128::from(cal.tick_var_q32) * d,
+                1..=3 => i128::from(cal.tick_lags_q32[lag - 1]) * d,
+                _ => 0,
+            }
+        };
+        let mut e = 0i128;
+        for i in 0..taps {
+            for j in i.saturating_sub(3)..(i + 4).min(taps) {
+                e += c[i] * c[j] * cov(i.abs_diff(j));
+            }
+        }
+        let expect_q32 = e.max(0) as u128;
+        Self {
+            power: expect_q32 >> 32,
+            expect_q32,
+            amp_q16: 0,
+        }
+    }
+
+    /// Takes the tick just closed on `axis`.
+    pub(crate) fn update(&mut self, s: &DriftSettings, stream: &TickStream, axis: usize) {
+        let r = stream.band_residual(s, axis).unsigned_abs();
+        let r2 = u128::from(r) * u128::from(r); // < 2^84
+        let k = s.dist_shift;
+        self.power = if r2 >= self.power {
+            self.power + ((r2 - self.power) >> k)
+        } else {
+            self.power - ((self.power - r2) >> k)
+        };
+        let p = self.power << 32;
+        let hi = self.expect_q32.saturating_mul(u128::from(s.dist_margin_q8)) >> 8;
+        self.amp_q16 = if p > hi {
+            let l = u128::from(s.band[0] * s.band[1]);
+            // sqrt(2 (P - E) 2^32) / (L1 L2): Q16 LSB per tick sum.
+            (crate::math::isqrt_u128(2 * (p - self.expect_q32)) / l) as u64
+        } else {
+            0
+        };
+    }
+}

@@ -1,0 +1,208 @@
+//! The rest statistic: when a motion starts, and where it began.
+//!
+//! # Two CUSUMs per horizontal axis and sign
+//! At rest, per tick, each axis's offset from its zero is standardised by the tick sum's
+//! long-run sd `sqrt(q D)` ([`super::noise`]) and fed to one-sided CUSUMs
+//! `S = max(0, S + z - kappa)`, alarm at `S > h` (Page's test; REFERENCE (j)):
+//!
+//! - the **slow** one on the hand-band filter's output ([`super::ticks`]), `kappa = 1/2`:
+//!   the quickest test for offsets near one sd, a slow stroke's; the filter removes a knock's
+//!   ring and a machine's vibration, so that they do not start it;
+//! - the **fast** one on the raw ticks, `kappa = 3/2`: offsets near 3 sd, a brisk stroke's,
+//!   without the filter's delay (a brisk stroke's first count is due about 20 ms after it
+//!   starts); also checked within a tick, on the samples so far, so that a brisk start does
+//!   not wait for the tick's end.
+//!
+//! Both `kappa`s are widened by what the measured disturbance `A` can fake through their
+//! input: `G_band A` for the filtered one, `A` for the raw one ([`super::noise`]).
+//!
+//! # Thresholds from the false-start budget
+//! The eight CUSUMs (slow and fast, X and Y, both signs) share
+//! [`super::Drift::false_start_hours`] equally. On unit-variance Gaussian increments a
+//! CUSUM's average run length to a false alarm is `(e^(2 kappa b) - 1 - 2 kappa b) / (2
+//! kappa^2)` (Siegmund), with `b = h` for the filtered one (a smooth input has no overshoot:
+//! Brownian motion's exact result, conservative) and `b = h + 1.166` for the raw one. At
+//! 3 kHz (5 ms ticks) and 10^4 hours: `h = 24.3` (slow) and `h = 8.1` (fast). Real tick sums
+//! are not Gaussian when the noise is below an LSB, and the zero walks: the rate is measured
+//! by the long-rest benchmark (`cargo lab mouse --long-rest`), beside this prediction.
+//!
+//! # Where the motion began
+//! Each CUSUM remembers the tick at which it last left zero: that is where the run that
+//! crossed the alarm began. The raw one's onset is the tick itself; the slow one's is moved
+//! back by the filter's delay. The ticks since the onset (at most [`super::REPLAY`] - 1) are
+//! integrated at once, from zero velocity: a slow stroke found 100 ms in loses nothing of its
+//! start. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
+//! ramp: its hold runs from now, not from an onset noise may have placed earlier
+//! ([`super::click`]).
+
+use super::noise::{Disturbance, Noise};
+use super::ticks::{offset, TickStream};
+use super::{Action, Detector, DriftSettings, State, REPLAY};
+
+/// The CUSUMs' reference values `kappa` [sd of a tick sum]: slow (filtered), fast (raw).
+pub const KAPPA: [f64; 2] = [0.5, 1.5];
+/// The same in Q8.
+const KAPPA_Q8: [i64; 2] = [128, 384];
+
+/// The start tests' state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Rest {
+    /// `[slow, fast][axis X, Y][side +, -]` [Q16 LSB samples].
+    cusum: [[[i64; 2]; 2]; 2],
+    /// The tick each CUSUM last left zero.
+    onset: [[[u64; 2]; 2]; 2],
+    /// Per horizontal axis and side, how far the current tick's offset so far may go before
+    /// the fast CUSUM alarms on it with a whole tick's drift subtracted [Q16 LSB samples]:
+    /// `alarm - S + kappa sd + A` ([`Self::within_headroom`]).
+    headroom: [[i64; 2]; 2],
+}
+
+impl Rest {
+    /// Every CUSUM at zero, their onsets at `tick`.
+    pub(crate) fn reset(&mut self, tick: u64) {
+        self.cusum = [[[0; 2]; 2]; 2];
+        self.onset = [[[tick; 2]; 2]; 2];
+    }
+
+    /// The drifts and alarms of `axis` [Q16 LSB samples]: `([slow, fast] kappa sd + the
+    /// disturbance's allowance, [slow, fast] h sd)`.
+    fn limits(s: &DriftSettings, n: &Noise, d: &Disturbance) -> ([i64; 2], [i64; 2]) {
+        let sd = n.sd_q16;
+        let a = d.amp_q16 as i64;
+        let band = ((u128::from(s.band_gain_q16) * u128::from(d.amp_q16)) >> 16) as i64;
+        let kappa = [
+            ((KAPPA_Q8[0] * sd) >> 8) + band,
+            ((KAPPA_Q8[1] * sd) >> 8) + a,
+        ];
+        let alarm = s
+            .alarm_q8
+            .map(|h| ((i128::from(h) * i128::from(sd)) >> 8) as i64);
+        (kappa, alarm)
+    }
+
+    /// Recomputes the headroom after a tick, while Still.
+    pub(crate) fn refresh_headroom(
+        &mut self,
+        s: &DriftSettings,
+        noise: &[Noise; 3],
+        dist: &[Disturbance; 3],
+        state: State,
+    ) {
+        if state != State::Still {
+            return;
+        }
+        for a in 0..2 {
+            let (kappa, alarm) = Self::limits(s, &noise[a], &dist[a]);
+            for side in 0..2 {
+                self.headroom[a][side] = alarm[1] - self.cusum[1][a][side] + kappa[1];
+            }
+        }
+    }
+
+    /// On entering Still, until the next tick's refresh: no early test (the tick's end
+    /// makes the exact one).
+    pub(crate) fn no_headroom_test(&mut self) {
+        self.headroom = [[i64::MAX; 2]; 2];
+    }
+
+    /// Whether the current tick so far is within the headroom on both horizontal axes, so
+    /// that the fast CUSUM cannot alarm on it: the test made on every sample at rest.
+    #[inline(always)]
+    pub(crate) fn within_headroom(&self, stream: &TickStream, bias: [i64; 3]) -> bool {
+        (0..2).all(|a| {
+            let d = stream.partial_offset(a, bias[a]);
+            d <= self.headroom[a][0] && -d <= self.headroom[a][1]
+        })
+    }
+}
+
+impl Detector {
+    /// Decisions at rest at a tick's end: the start tests, then learning the noise and
+    /// following the zero from the tick a start can no longer claim.
+    pub(crate) fn still_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        let t = self.stream.ticks();
+        let mut alarm: Option<u64> = None;
+        let mut step = false;
+        // The filter remembers L1 + L2 - 1 ticks: until it has forgotten the motion before
+        // this rest, only the raw test runs.
+        let band_ready = self.age() >= u64::from(s.band[0] + s.band[1] - 1);
+        for a in 0..2 {
+            let (kappa, limit) = Rest::limits(s, &self.noise[a], &self.disturbance[a]);
+            let raw = offset(u64::from(self.stream.code(1, a)), u64::from(s.tick), bias[a]);
+            let band = self.stream.band_offset(s, a, bias[a]);
+            let tests = if band_ready { 0..2 } else { 1..2 };
+            for (c, z) in [band, raw].into_iter().enumerate().skip(tests.start) {
+                for (side, z) in [z, -z].into_iter().enumerate() {
+                    let sum = &mut self.rest.cusum[c][a][side];
+                    *sum = (*sum + z - kappa[c]).max(0);
+                    if *sum == 0 {
+                        self.rest.onset[c][a][side] = t;
+                    } else if *sum > limit[c] {
+                        // The slow one's run began the filter's delay before it shows; no run
+                        // began before this rest.
+                        let on = self.rest.onset[c][a][side]
+                            .saturating_sub(if c == 0 { u64::from(s.band_delay) } else { 0 })
+                            .max(self.entered);
+                        alarm = Some(alarm.map_or(on, |o: u64| o.min(on)));
+                        step |= c == 1 && z - kappa[1] > limit[1];
+                    }
+                }
+            }
+        }
+        if let Some(onset) = alarm {
+            return self.start(s, onset, step, bias);
+        }
+        self.track_zero(s, bias)
+    }
+
+    /// The fast CUSUM checked within a tick, on the samples of it so far, against the whole
+    /// tick's drift (conservative: a partial tick is noisier, and gets no more room).
+    #[inline(never)]
+    pub(crate) fn early_start(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        let t = self.stream.ticks();
+        let mut alarm: Option<u64> = None;
+        let mut step = false;
+        for a in 0..2 {
+            let d = self.stream.partial_offset(a, bias[a]);
+            for (side, z) in [d, -d].into_iter().enumerate() {
+                if z > self.rest.headroom[a][side] {
+                    let sum = self.rest.cusum[1][a][side];
+                    let on = if sum == 0 {
+                        t
+                    } else {
+                        self.rest.onset[1][a][side]
+                    };
+                    alarm = Some(alarm.map_or(on, |o: u64| o.min(on)));
+                    // Alone past the alarm (the headroom less what the CUSUM held): a step.
+                    step |= z > self.rest.headroom[a][side] + sum;
+                }
+            }
+        }
+        alarm.map_or(Action::None, |onset| self.start(s, onset, step, bias))
+    }
+
+    /// A motion starts: replay the complete ticks since `onset` (at most `REPLAY - 1`) and
+    /// the current tick's samples so far. It is held until `hold_s` after its onset; after a
+    /// `step` until `hold_s` after now ([`super::click`]).
+    pub(crate) fn start(
+        &mut self,
+        s: &DriftSettings,
+        onset: u64,
+        step: bool,
+        bias: [i64; 3],
+    ) -> Action {
+        let t = self.stream.ticks();
+        // Keep one tick before the replay: it primes the trapezoid.
+        let ticks = (t - onset.min(t))
+            .min(REPLAY as u64 - 1)
+            .min(t.saturating_sub(1));
+        self.enter(State::Moving);
+        let samples = ticks * u64::from(s.tick) + u64::from(self.stream.partial_samples());
+        self.motion.begin(samples);
+        self.click.begin_motion(s, samples, step);
+        self.count_runs(s, ticks / u64::from(s.block), bias);
+        Action::Start {
+            ticks: ticks as usize,
+        }
+    }
+}

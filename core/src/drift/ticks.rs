@@ -1,0 +1,260 @@
+//! The tick stream: what drift control keeps of the samples.
+//!
+//! # Ticks
+//! A tick is `D = ceil(fs * 5 ms)` samples ([`super::tick_samples`]). Per tick and axis the
+//! stream keeps the sum of the raw codes `s` (a ring of [`super::RING`] ticks: the tests'
+//! windows) and the [`BlockSums`] of the integrated samples (a ring of [`super::REPLAY`]
+//! ticks: a motion's onset is integrated after the fact, exactly). A sample costs one add per
+//! axis and sum; everything else runs once a tick.
+//!
+//! # The hand-band filter
+//! A hand on a desk moves below about 10 Hz; a desk top rings at 20-60 Hz and a machine
+//! vibrates at 30-100 Hz (REFERENCE (j)). The slow start test and the tilt tests look at the
+//! tick sums through two boxcars in cascade, of `L1 = 1 / knock_hz` and `L2 = 2 / (3
+//! knock_hz)` (whole ticks; 50 ms and 35 ms at 20 Hz): a trapezoid with nulls at `knock_hz`
+//! and `1.5 knock_hz` and their multiples, unity gain at DC, a delay of `(L1 + L2 - 2) / 2`
+//! ticks. Its largest gain above `knock_hz` (with the tick's own boxcar) is computed at
+//! validation: 0.06 at 20 Hz, 5 ms ticks, 3 kHz; 50 mg of vibration leaves 3 mg.
+//!
+//! ```text
+//! F1[t] = sum_{j < L1} s[t-j]          (running: + s[t] - s[t-L1])
+//! G[t]  = F1[t - L2]                   (running: + s[t-L2] - s[t-L2-L1])
+//! F2[t] = sum_{j < L2} F1[t-j]         (running: + F1[t] - G[t])
+//! ```
+//!
+//! Exact integer sums of raw codes (`F2 < L1 L2 D 2^16 <= 2^40`): the zero is subtracted
+//! only when a sum is used, so a new zero needs no recomputation.
+//!
+//! # Blocks
+//! Every `round(20 ms / tick)` ticks the block's raw sums close into a ring of
+//! [`super::BLOCKS`] blocks (1.28 s at 5 ms ticks): the tilt tests' windows, up to half the
+//! longest stroke.
+
+use crate::calibration::Calibration;
+use crate::integrator::BlockSums;
+
+use super::{DriftSettings, BLOCKS, REPLAY, RING};
+
+/// One axis's integrated-sample sums over one tick, compact ([`BlockSums`] without the
+/// tick's length and first sample, which the replay does not need).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TickSums {
+    sum: i64,
+    sum_of_prefixes: i64,
+    last: i64,
+}
+
+/// The running sums of the hand-band filter for one axis (raw codes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Band {
+    f1: u64,
+    g: u64,
+    f2: u64,
+}
+
+/// The samples as drift control keeps them; see the module docs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TickStream {
+    codes: [[u32; 3]; RING],
+    sums: [[TickSums; 3]; REPLAY],
+    blocks: [[u32; 3]; BLOCKS],
+    cur_codes: [u32; 3],
+    cur_sums: [BlockSums; 3],
+    cur_n: u32,
+    cur_block: [u32; 3],
+    block_ticks: u32,
+    band: [Band; 3],
+    ticks: u64,
+    blocks_done: u64,
+    block_closed: bool,
+}
+
+impl TickStream {
+    /// A stream that has seen the calibration's window: every tick in the rings at the
+    /// calibrated mean (the device was at rest), so that every window is defined at once.
+    pub(crate) fn new(s: &DriftSettings, cal: &[Calibration; 3]) -> Self {
+        // The mean tick sum: D times the Q16 zero, rounded.
+        let tick_sum: [u32; 3] = core::array::from_fn(|a| {
+            let b = cal[a].bias_q16.clamp(0, 65_535 << 16) as u64;
+            ((b * u64::from(s.tick) + (1 << 15)) >> 16) as u32
+        });
+        let [l1, l2] = s.band.map(u64::from);
+        let band = tick_sum.map(|t| Band {
+            f1: l1 * u64::from(t),
+            g: l1 * u64::from(t),
+            f2: l1 * l2 * u64::from(t),
+        });
+        Self {
+            codes: [tick_sum; RING],
+            sums: [[TickSums::default(); 3]; REPLAY],
+            blocks: [tick_sum.map(|t| t * s.block); BLOCKS],
+            cur_codes: [0; 3],
+            cur_sums: [BlockSums::default(); 3],
+            cur_n: 0,
+            cur_block: [0; 3],
+            block_ticks: 0,
+            band,
+            ticks: 0,
+            blocks_done: 0,
+            block_closed: false,
+        }
+    }
+
+    /// Adds one sample: raw `codes`, integrated values `y` (Q16 counts).
+    #[inline(always)]
+    pub(crate) fn push(&mut self, codes: [u16; 3], y: [i64; 3]) {
+        for a in 0..3 {
+            self.cur_codes[a] += u32::from(codes[a]);
+            self.cur_sums[a].push(y[a]);
+        }
+        self.cur_n += 1;
+    }
+
+    /// Whether the current tick is complete.
+    #[inline(always)]
+    pub(crate) fn tick_done(&self, s: &DriftSettings) -> bool {
+        self.cur_n >= s.tick
+    }
+
+    /// Closes the current tick into the rings, the filter and the blocks.
+    pub(crate) fn close_tick(&mut self, s: &DriftSettings) {
+        let [l1, l2] = s.band.map(|l| l as usize);
+        let t = self.ticks as usize;
+        let codes = core::mem::take(&mut self.cur_codes);
+        for (a, band) in self.band.iter_mut().enumerate() {
+            let at = |k: usize| u64::from(self.codes[(t + RING - k) % RING][a]);
+            // The ring still holds the ticks before this one: `at(k)` is k ticks back from
+            // this tick (at(1) the previous one).
+            band.f1 = band.f1 + u64::from(codes[a]) - at(l1);
+            band.g = band.g + at(l2) - at(l2 + l1); // L2 >= 1 (validation)
+            band.f2 = band.f2 + band.f1 - band.g;
+        }
+        self.codes[t % RING] = codes;
+        self.sums[t % REPLAY] = core::mem::take(&mut self.cur_sums).map(|b| TickSums {
+            sum: b.sum,
+            sum_of_prefixes: b.sum_of_prefixes,
+            last: b.last,
+        });
+        self.cur_n = 0;
+        self.ticks += 1;
+        for (b, c) in self.cur_block.iter_mut().zip(codes) {
+            *b += c;
+        }
+        self.block_ticks += 1;
+        self.block_closed = self.block_ticks >= s.block;
+        if self.block_closed {
+            self.blocks[(self.blocks_done % BLOCKS as u64) as usize] =
+                core::mem::take(&mut self.cur_block);
+            self.blocks_done += 1;
+            self.block_ticks = 0;
+        }
+    }
+
+    /// Complete ticks so far.
+    pub(crate) const fn ticks(&self) -> u64 {
+        self.ticks
+    }
+
+    /// Whether the tick just closed also closed a block.
+    pub(crate) const fn block_closed(&self) -> bool {
+        self.block_closed
+    }
+
+    /// The raw code sum of `axis` `k` complete ticks back (`1` = the last one), `k <= RING`.
+    pub(crate) fn code(&self, k: u64, axis: usize) -> u32 {
+        self.codes[(self.ticks.wrapping_sub(k) % RING as u64) as usize][axis]
+    }
+
+    /// The raw code sums of the last `k` complete ticks (`k <= RING`), per axis.
+    pub(crate) fn window(&self, k: u32) -> [u64; 3] {
+        let mut sums = [0u64; 3];
+        for i in 1..=u64::from(k) {
+            for (a, sum) in sums.iter_mut().enumerate() {
+                *sum += u64::from(self.code(i, a));
+            }
+        }
+        sums
+    }
+
+    /// The raw code sum of `axis` over blocks `from..to` back (`1` = the last complete
+    /// block), `to <= BLOCKS + 1`.
+    pub(crate) fn blocks_sum(&self, axis: usize, from: u32, to: u32) -> u64 {
+        (from..to)
+            .map(|k| {
+                let i = self.blocks_done.wrapping_sub(u64::from(k)) % BLOCKS as u64;
+                u64::from(self.blocks[i as usize][axis])
+            })
+            .sum()
+    }
+
+    /// Complete blocks so far.
+    pub(crate) const fn blocks(&self) -> u64 {
+        self.blocks_done
+    }
+
+    /// The hand-band filter's output on `axis` as an offset from `bias` (Q16 counts), per
+    /// tick [Q16 LSB samples]: `(F2 2^16 - L1 L2 D bias) / (L1 L2)`, rounded.
+    pub(crate) fn band_offset(&self, s: &DriftSettings, axis: usize, bias: i64) -> i64 {
+        let l = i64::from(s.band[0] * s.band[1]);
+        // F2 < 2^40 (L1 L2 <= 31^2 ticks of 2^14 16-bit codes): shifted, 2^56.
+        let f = ((self.band[axis].f2 as i64) << 16) - l * i64::from(s.tick) * bias;
+        crate::math::div_round(f, l)
+    }
+
+    /// The hand-band residual of `axis`: `L1 L2 s[t - delay] - F2[t]`, the tick sum at the
+    /// filter's centre against the filter [LSB, times `L1 L2`]; no zero in it.
+    pub(crate) fn band_residual(&self, s: &DriftSettings, axis: usize) -> i64 {
+        let l = i64::from(s.band[0] * s.band[1]);
+        let centre = i64::from(self.code(u64::from(s.band_delay) + 1, axis));
+        l * centre - self.band[axis].f2 as i64
+    }
+
+    /// The current tick's raw code sum on `axis` so far, as an offset from `bias` [Q16 LSB
+    /// samples]: below `2^14` codes of 16 bits, `2^46`, and `n bias < 2^46`.
+    #[inline(always)]
+    pub(crate) fn partial_offset(&self, axis: usize, bias: i64) -> i64 {
+        (i64::from(self.cur_codes[axis]) << 16) - i64::from(self.cur_n) * bias
+    }
+
+    /// Samples in the current tick so far.
+    pub(crate) const fn partial_samples(&self) -> u32 {
+        self.cur_n
+    }
+
+    /// The integrated-sample sums of the last `ticks` complete ticks (`< REPLAY`), oldest
+    /// first, then those of the current tick so far (if it has samples).
+    pub(crate) fn replay(
+        &self,
+        s: &DriftSettings,
+        ticks: usize,
+    ) -> impl Iterator<Item = [BlockSums; 3]> + '_ {
+        let first = self.ticks - ticks.min(REPLAY - 1) as u64;
+        let n = s.tick;
+        (first..self.ticks)
+            .map(move |i| {
+                self.sums[(i % REPLAY as u64) as usize].map(|t| BlockSums {
+                    n,
+                    sum: t.sum,
+                    sum_of_prefixes: t.sum_of_prefixes,
+                    first: 0,
+                    last: t.last,
+                })
+            })
+            .chain((self.cur_n > 0).then_some(self.cur_sums))
+    }
+
+    /// The last integrated sample of the tick before the last `ticks` complete ones (Q16
+    /// counts), to prime a trapezoid replay; `None` if there is no such tick.
+    pub(crate) fn replay_prev(&self, ticks: usize) -> Option<[i64; 3]> {
+        let i = self.ticks.checked_sub(ticks as u64 + 1)?;
+        // The ring holds the last REPLAY ticks: a replay of at most REPLAY - 1 (the cap in
+        // `start`) leaves its predecessor in it.
+        (ticks < REPLAY).then(|| self.sums[(i % REPLAY as u64) as usize].map(|t| t.last))
+    }
+}
+
+/// An offset of a sum of `n` samples from `n` times `bias` (Q16 counts) [Q16 LSB samples]:
+/// `sum 2^16 - n bias`. Sums of up to `2^26` samples of 16-bit codes: below `2^58`.
+pub(crate) fn offset(sum: u64, n: u64, bias: i64) -> i64 {
+    ((sum as i64) << 16) - n as i64 * bias
+}

@@ -1,0 +1,177 @@
+//! Tilt and the zero: a steady one-sided acceleration is gravity through a tilt, not a hand;
+//! at rest the zero follows slow drift.
+//!
+//! # What tells a tilt from a hand (REFERENCE (j))
+//! A tilt of `theta` leaks `g sin(theta)` (0.171 m/s^2 per degree) into X or Y: a step that
+//! never reverses. A hand's acceleration reverses within its stroke: a stroke of `T` keeps
+//! one sign for `T / 2`, so a hand's for at most half its longest stroke
+//! ([`super::Drift::stroke_max_s`], `T_max`). A pad tilting slowly and a stroke starting are
+//! the same signal until the stroke's acceleration would have reversed: before that no
+//! statistic tells them apart, so the damage is bounded, not avoided.
+//!
+//! # The test, on 20 ms blocks of raw code sums
+//! Per horizontal axis, at each block's end, the last `m` blocks (a sub-window of 100 ms)
+//! have an offset `o` from the zero (a sum of `n` samples); it is **significant** when `|o| >
+//! K_TILT sd(o) + G A n / D` (`sd^2 = q n (1 + n / N_b)`; `G` the gain of a 100 ms boxcar
+//! above `knock_hz`, `A` the measured disturbance, [`super::noise`]). The axis's **run** is
+//! the number of consecutive blocks whose sub-window was significant with one sign: the
+//! acceleration has kept that sign for `run + m - 1` blocks. A hand's acceleration passes
+//! through zero at the end of each lobe (linearly, as a minimum-jerk stroke's does), and a
+//! 100 ms sub-window centred on that crossing is not significant: the run breaks.
+//!
+//! - **Hold**: an axis one-sided for `T_max / 8` (0.25 s): the motion is still integrated but
+//!   not delivered; the cursor stops. This bounds a tilt's runaway: what it integrated
+//!   before the hold, `g sin(theta) (t_detect + T_max / 8)^2 / 2` for a sudden tilt. A stroke
+//!   longer than `T_max / 4` is held during part of each lobe (its cursor pauses, then
+//!   catches up).
+//! - **Release**: held, and no axis one-sided for `T_max / 8` any more (the acceleration
+//!   reversed or went quiet, as a hand's does): what was held is delivered.
+//! - **Tilt**: an axis one-sided for `T_max / 2` plus the sub-window: no lobe of a hand's
+//!   stroke is that long, and the sub-window ensures the test has seen past its end. The held
+//!   motion is dropped and the zeros become the last sub-window's means (on every axis: Z
+//!   moves by `g (1 - cos theta)`); Still. A pad still tilting goes on as a new motion, held
+//!   again.
+//!
+//! At a start the runs are counted back over the motion's replayed blocks, so that a motion
+//! found late (a slow tilt) is judged from its onset.
+//!
+//! `K_TILT = 3`: a sub-window of a tilt falls short with probability 0.13 % (the hold is
+//! then released, and taken again a sub-window later).
+//!
+//! # The zero at rest
+//! At rest, the tick [`super::REPLAY`] ticks old (older than any onset a start could still
+//! claim) is averaged into the zero with weight `D / min(N_b, bias_tau_s fs)`: a running
+//! mean after a new zero, an exponential with time constant `bias_tau_s` later. The same
+//! ticks teach the noise ([`super::noise::Learn`]).
+
+use super::noise::within;
+use super::ticks::offset;
+use super::{Action, Detector, DriftSettings, State, REPLAY};
+
+/// The tilt tests' bound [sd], squared, Q8.
+const K_TILT2_Q8: u64 = 9 * 256;
+
+/// The tilt test's sub-window [s].
+pub const SUB_S: f64 = 0.1;
+
+/// The tilt tests' state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Tilt {
+    /// Per horizontal axis, the sign of the run and its length [blocks].
+    run: [(i8, u32); 2],
+    /// Whether the motion is held.
+    held: bool,
+}
+
+impl Tilt {
+    /// Whether the motion is held by the tilt tests.
+    pub(crate) const fn held(&self) -> bool {
+        self.held
+    }
+}
+
+impl Detector {
+    /// The sub-window ending `back` blocks ago (0: the last complete block) on `axis`: its
+    /// sign if it is significantly off `bias` (see the module docs), 0 if not.
+    fn sub_sign(&self, s: &DriftSettings, axis: usize, back: u32, bias: i64) -> i8 {
+        let m = s.sub_blocks;
+        let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
+        let o = offset(self.stream.blocks_sum(axis, back + 1, back + m + 1), n, bias);
+        let ticks = n / u64::from(s.tick);
+        let allow = ((u128::from(s.sub_gain_q16) * u128::from(self.disturbance[axis].amp_q16)
+            * u128::from(ticks))
+            >> 16)
+            .min(u128::from(u64::MAX)) as u64;
+        let var = self.noise[axis].var(n, self.bias_samples);
+        if within(o, var, K_TILT2_Q8, allow) {
+            0
+        } else {
+            o.signum() as i8
+        }
+    }
+
+    /// The runs at a motion's start: counted back over its replayed blocks (`blocks` whole
+    /// blocks since its onset).
+    pub(crate) fn count_runs(&mut self, s: &DriftSettings, blocks: u64, bias: [i64; 3]) {
+        let m = u64::from(s.sub_blocks);
+        for a in 0..2 {
+            let mut run = (0i8, 0u32);
+            let mut back = 0u32;
+            while u64::from(back) + m <= blocks && (back as usize) + (m as usize) < super::BLOCKS {
+                let sign = self.sub_sign(s, a, back, bias[a]);
+                if sign == 0 || (run.1 > 0 && sign != run.0) {
+                    break;
+                }
+                run = (sign, run.1 + 1);
+                back += 1;
+            }
+            self.tilt.run[a] = run;
+        }
+        self.tilt.held = false;
+    }
+
+    /// The longest one-sided stretch over the horizontal axes [blocks].
+    fn one_sided_blocks(&self, s: &DriftSettings) -> u32 {
+        self.tilt
+            .run
+            .iter()
+            .map(|&(_, r)| if r == 0 { 0 } else { r + s.sub_blocks - 1 })
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// The tilt tests at a block's end while moving.
+    pub(crate) fn tilt_block(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        for a in 0..2 {
+            let sign = self.sub_sign(s, a, 0, bias[a]);
+            let run = &mut self.tilt.run[a];
+            *run = match sign {
+                0 => (0, 0),
+                _ if sign == run.0 => (sign, run.1 + 1),
+                _ => (sign, 1),
+            };
+        }
+        let [hold, confirm] = s.tilt_blocks;
+        let sided = self.one_sided_blocks(s);
+        if sided >= confirm {
+            // A tilt: the zeros become the last sub-window's means; the runaway goes.
+            let m = s.sub_blocks;
+            let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
+            let level: [i64; 3] = core::array::from_fn(|a| {
+                let o = offset(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
+                bias[a] + crate::math::div_round(o, n as i64)
+            });
+            self.enter_still();
+            self.lift_wait(s);
+            self.bias_samples = n;
+            return Action::Rebias {
+                bias: level,
+                discard: true,
+            };
+        }
+        self.tilt.held = sided >= hold;
+        Action::None
+    }
+
+    /// At rest: learn the noise and follow the zero from the tick [`REPLAY`] ticks old, once
+    /// the device has been still all the time since.
+    pub(crate) fn track_zero(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        if self.state != State::Still || self.age() < REPLAY as u64 {
+            return Action::None;
+        }
+        let old: [u32; 3] = core::array::from_fn(|a| self.stream.code(REPLAY as u64, a));
+        self.learn.push(s, &mut self.noise, old, bias);
+        let Some(max) = s.bias_samples_max else {
+            return Action::None;
+        };
+        self.bias_samples = (self.bias_samples + u64::from(s.tick)).min(max);
+        let w = self.bias_samples as i64; // <= 1e6 s * 1e5 Hz < 2^37
+        let mut out = bias;
+        for (b, &c) in out.iter_mut().zip(&old) {
+            // A tick's offset: below 2^41 in Q16 LSB samples.
+            let d = (i64::from(c) << 16) - i64::from(s.tick) * *b;
+            *b += crate::math::div_round(d, w);
+        }
+        Action::TrackBias(out)
+    }
+}
