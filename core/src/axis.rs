@@ -173,6 +173,12 @@ impl Axis {
         self.integrator.zero_velocity();
     }
 
+    /// Sets the velocity (`W = 2 V`, Q16 counts times samples) at the start of a motion
+    /// that carries one on; position, bias and filter are kept.
+    pub fn set_velocity(&mut self, w: i64) {
+        self.integrator.set_velocity(w);
+    }
+
     /// Moves the bias (Q16 counts, clamped to the codes' range) without touching the filter:
     /// bias tracking at rest.
     pub fn track_bias_q16(&mut self, bias_q16: i64) {

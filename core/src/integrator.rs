@@ -78,6 +78,13 @@ impl IntegratorState {
         self.primed = false;
     }
 
+    /// Sets the velocity to `w` (`W = 2 V`) at the start of a motion that carries one on
+    /// (the trapezoid waits for a new first sample); the position is kept.
+    pub fn set_velocity(&mut self, w: i64) {
+        self.w = w;
+        self.primed = false;
+    }
+
     /// Primes the trapezoid with the sample `c` (Q16 counts) before the next: the next
     /// sample's step uses it as `c[n-1]`. Velocity and position are kept.
     pub fn prime(&mut self, c: i64) {

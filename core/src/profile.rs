@@ -212,6 +212,8 @@ keys! {
     LiftRiseS = 43, "drift.lift_rise_s", Kind::Optional;
     /// Drift control: mounting tilt and cross-axis allowance [degrees].
     MountTiltDeg = 44, "drift.mount_tilt_deg", Kind::Real;
+    /// Drift control: the longest glide of a drag [s].
+    GlideMaxS = 45, "drift.glide_max_s", Kind::Real;
     /// Sensor axis that moves the cursor right (0 X, 1 Y, 2 Z).
     XAxis = 30, "x_axis", Kind::Integer { min: 0, max: 2 };
     /// +1, or -1 if that axis's positive direction moves the cursor left.
@@ -243,6 +245,7 @@ impl Key {
                 DriftError::Hold => Key::HoldS,
                 DriftError::Knock => Key::KnockHz,
                 DriftError::Stroke => Key::StrokeMaxS,
+                DriftError::Glide => Key::GlideMaxS,
                 DriftError::Lift => Key::LiftRiseS,
                 DriftError::MountTilt => Key::MountTiltDeg,
                 DriftError::BiasTau => Key::BiasTauS,
@@ -356,6 +359,7 @@ impl Profile {
             Key::StrokeMaxS => d.stroke_max_s,
             Key::LiftRiseS => opt(d.lift_rise_s),
             Key::MountTiltDeg => d.mount_tilt_deg,
+            Key::GlideMaxS => d.glide_max_s,
             Key::XAxis => f64::from(m.x_axis),
             Key::XSign => sign(m.x_flip),
             Key::YAxis => f64::from(m.y_axis),
@@ -416,6 +420,7 @@ impl Profile {
             Key::StrokeMaxS => d.stroke_max_s = real(value)?,
             Key::LiftRiseS => d.lift_rise_s = from_opt(value),
             Key::MountTiltDeg => d.mount_tilt_deg = real(value)?,
+            Key::GlideMaxS => d.glide_max_s = real(value)?,
             Key::XAxis => m.x_axis = int(value)? as u8,
             Key::XSign => m.x_flip = flip(value)?,
             Key::YAxis => m.y_axis = int(value)? as u8,

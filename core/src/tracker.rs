@@ -256,9 +256,11 @@ impl Tracker {
         let s = &self.settings;
         match action {
             Action::None => {}
-            Action::Start { ticks } => {
+            Action::Start { ticks, carry } => {
                 self.counters.motions += 1;
-                self.axes.iter_mut().for_each(Axis::zero_velocity);
+                for (axis, w) in self.axes.iter_mut().zip(carry) {
+                    axis.set_velocity(w);
+                }
                 if let (Some(det), Some(ds)) = (&self.detector, s.drift()) {
                     if let Some(prev) = det.replay_prev(ticks) {
                         for (axis, y) in self.axes.iter_mut().zip(prev) {

@@ -21,32 +21,60 @@
 //! no acceleration explains and that is within `K_VELOCITY` sd is stopped, however long it
 //! has lasted: there is no timeout.
 //!
+//! Both tests are on the two horizontal axes together: `sum_a (e_a / sd_a)^2 <= K^2`, each
+//! `e_a` the axis's offset less its allowance, `K^2` the 99.73 % point of a chi-square with 2
+//! degrees of freedom (11.8): a motion along a diagonal is judged as one along an axis.
+//!
+//! # A glide that fades
+//! A glide's velocity is stopped once its uncertainty has grown past it (a 10 mm/s glide 1.5 s
+//! after its ramp), although the hand may glide on: if its ramp down then started a motion
+//! from zero velocity, it would run the cursor back at the glide's speed. So a stop after the
+//! acceleration has been quiet for an eighth of the longest stroke (no deceleration brought the
+//! velocity down: a glide faded, it did not end) keeps the velocity as **latent**: the cursor
+//! stops, and a motion that starts within `glide_max_s` of it starts from that velocity, its
+//! uncertainty counted from the glide's own onset. A ramp down then brings it to zero. A stroke
+//! ends with a deceleration, so its stop carries nothing.
+//!
 //! # Error rates
-//! `K_QUIET = 3`: a window at rest passes with probability 0.997 (a false "not quiet" only
-//! delays a stop by a tick). `K_VELOCITY = 3`: the end of a stroke at rest is taken for a
-//! glide with probability 0.27 % per axis; that glide then stops as `sd(V)` grows past it.
+//! `K^2 = 11.8` (2 degrees of freedom, 0.27 %): a window at rest passes the quiet test with
+//! probability 0.997 (a false "not quiet" only delays a stop by a tick); the end of a stroke
+//! at rest is taken for a glide with probability 0.27 %, and that glide then stops as `sd(V)`
+//! grows past it.
 
 use super::click::Click;
 use super::noise::within;
 use super::ticks::offset;
 use super::{Action, Detector, DriftSettings};
 
-/// The quiet test's bound [sd], squared, Q8.
-const K_QUIET2_Q8: u64 = 9 * 256;
-/// The velocity test's bound [sd], squared, Q8.
-const K_VELOCITY2_Q8: u64 = 9 * 256;
+/// The tests' bound on the chi-square of the two horizontal axes, Q8: its 99.73 % point for 2
+/// degrees of freedom, `-2 ln(0.0027) = 11.83`.
+const K2_2D_Q8: u128 = 3028;
 
 /// A motion under way.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Motion {
-    /// Samples integrated since the onset.
+    /// Samples integrated since the onset (of the glide a latent velocity came from).
     pub(crate) samples: u64,
+    /// Ticks the quiet test has held in a row.
+    quiet_run: u32,
+}
+
+/// A faded glide's velocity, waiting for the next motion.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Latent {
+    /// The velocity (`W = 2 V`) per horizontal axis; zeros for none.
+    w: [i64; 2],
+    /// The glide's samples since its onset, at its stop.
+    samples: u64,
+    /// The tick of its stop.
+    at: u64,
 }
 
 impl Motion {
     /// A motion whose onset was `samples` samples ago.
     pub(crate) fn begin(&mut self, samples: u64) {
         self.samples = samples;
+        self.quiet_run = 0;
     }
 
     /// One more sample integrated.
@@ -57,40 +85,65 @@ impl Motion {
     }
 }
 
+/// Whether two offsets `d` (Q16 sums) with variances `var` (squared units) and allowances
+/// `allow` are explained together: `sum ((|d| - allow)^+ / sd)^2 <= K^2` (2 dof).
+fn explained_2d(d: [i64; 2], var: [u128; 2], allow: [u64; 2]) -> bool {
+    let mut chi2_q8 = 0u128;
+    for a in 0..2 {
+        let e = u128::from(d[a].unsigned_abs().saturating_sub(allow[a]));
+        let e2 = e * e; // < 2^128: e < 2^64
+        let v = var[a].max(1);
+        // (e^2 / var) in Q8, saturating well above the bound.
+        chi2_q8 += if e2 >> 119 != 0 {
+            K2_2D_Q8 + 1
+        } else {
+            (e2 << 8) / v
+        };
+    }
+    chi2_q8 <= K2_2D_Q8
+}
+
 impl Detector {
-    /// Whether the last 20 ms are quiet on both horizontal axes.
+    /// Whether the last 20 ms are quiet on the horizontal axes.
     pub(crate) fn quiet(&self, s: &DriftSettings, bias: [i64; 3]) -> bool {
         let k = s.quiet_ticks;
         let w = self.stream.window(k);
         let n = u64::from(k) * u64::from(s.tick);
-        (0..2).all(|a| {
-            let allow = (u128::from(s.quiet_gain_q16)
-                * u128::from(self.disturbance[a].amp_q16)
+        let allow = |a: usize| {
+            ((u128::from(s.quiet_gain_q16) * u128::from(self.disturbance[a].amp_q16)
                 * u128::from(k))
-                >> 16;
-            within(
-                offset(w[a], n, bias[a]),
-                self.noise[a].var(n, self.bias_samples),
-                K_QUIET2_Q8,
-                allow as u64,
-            )
-        })
+                >> 16)
+                .min(u128::from(u64::MAX)) as u64
+        };
+        explained_2d(
+            [0, 1].map(|a| offset(w[a], n, bias[a])),
+            [0, 1].map(|a| self.noise[a].var(n, self.bias_samples)),
+            [allow(0), allow(1)],
+        )
     }
 
-    /// Whether the velocities `W = 2 V` are explained by their uncertainty on both
+    /// Whether the velocities `W = 2 V` are explained by their uncertainty on the
     /// horizontal axes.
     pub(crate) fn velocity_explained(&self, s: &DriftSettings, velocity: [i64; 3]) -> bool {
-        (0..2).all(|a| {
-            let allow = (2 * u128::from(s.vib_velocity_q16)
-                * u128::from(self.disturbance[a].amp_q16))
-                >> 16;
-            within(
-                velocity[a] / 2,
-                self.noise[a].var(self.motion.samples, self.bias_samples),
-                K_VELOCITY2_Q8,
-                allow.min(u128::from(u64::MAX)) as u64,
-            )
-        })
+        let allow = |a: usize| {
+            ((2 * u128::from(s.vib_velocity_q16) * u128::from(self.disturbance[a].amp_q16))
+                >> 16)
+                .min(u128::from(u64::MAX)) as u64
+        };
+        explained_2d(
+            [velocity[0] / 2, velocity[1] / 2],
+            [0, 1].map(|a| self.noise[a].var(self.motion.samples, self.bias_samples)),
+            [allow(0), allow(1)],
+        )
+    }
+
+    /// The velocity a motion starting now carries: a faded glide's, if one is waiting, and
+    /// the samples since that glide's onset (for its uncertainty); it is then used up.
+    pub(crate) fn take_latent(&mut self, s: &DriftSettings) -> Option<([i64; 3], u64)> {
+        let l = core::mem::take(&mut self.latent);
+        let since = self.stream.ticks() - l.at;
+        (l.w != [0; 2] && since <= u64::from(s.glide_ticks))
+            .then(|| ([l.w[0], l.w[1], 0], l.samples + since * u64::from(s.tick)))
     }
 
     /// Decisions while moving at a tick's end: the stop, then the tilt tests.
@@ -100,11 +153,22 @@ impl Detector {
         bias: [i64; 3],
         velocity: [i64; 3],
     ) -> Action {
-        if self.quiet(s, bias) && self.velocity_explained(s, velocity) {
+        let quiet = self.quiet(s, bias);
+        self.motion.quiet_run = if quiet { self.motion.quiet_run + 1 } else { 0 };
+        if quiet && self.velocity_explained(s, velocity) {
             // A motion that ends younger than its hold was a jolt, not a stroke; a tilt
             // suspicion that ends in a stop was refuted: deliver.
             let held = self.click.hold_left > 0;
+            let fade = self.motion.quiet_run >= s.fade_ticks && !held;
+            let samples = self.motion.samples;
             self.enter_still();
+            if fade {
+                self.latent = Latent {
+                    w: [velocity[0], velocity[1]],
+                    samples,
+                    at: self.stream.ticks(),
+                };
+            }
             return if held { Action::Discard } else { Action::Stop };
         }
         if self.stream.block_closed() {

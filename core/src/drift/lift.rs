@@ -26,8 +26,9 @@
 //!   each window of `W` ticks an independent two-sided chance (5.2 sd for 10^4 h);
 //! - `r = sin(mount_tilt_deg)`: the share of a horizontal displacement that a tilted
 //!   mounting or cross-axis sensitivity puts on Z;
-//! - the allowance: twice what the measured disturbance can move the device
-//!   ([`super::noise`]), a ring's or vibration's displacement amplitude;
+//! - the allowance: twice what the measured disturbance can move the device over the window
+//!   ([`super::noise`]): its velocity amplitude carried over the window (a window that starts
+//!   inside a knock's ring does not start at rest) and its displacement amplitude;
 //! - `P = 1 / (2 knock_hz)` (25 ms): a knock's flex returns within half a ring's period; a
 //!   lift stays up.
 //!
@@ -167,8 +168,12 @@ impl Detector {
             .saturating_add(q.saturating_mul(n * n * n / nb).saturating_mul(n));
         let sd = crate::math::isqrt_u128(var);
         let horizontal = (x.unsigned_abs() + y.unsigned_abs()).saturating_mul(u128::from(l.mount_q16)) >> 16;
+        // A disturbance's velocity at the window's start carried over the window (its start is
+        // not at rest when it starts inside a ring), plus its displacement: peak to peak.
+        let v = (u128::from(s.vib_velocity_q16) * u128::from(self.disturbance[2].amp_q16)) >> 16;
         let allow = u128::from(s.vib_displacement)
-            .saturating_mul(u128::from(self.disturbance[2].amp_q16));
+            .saturating_mul(u128::from(self.disturbance[2].amp_q16))
+            .saturating_add(v.saturating_mul(4 * n));
         let k = crate::math::isqrt_u128(u128::from(l.k2_q8) << 8); // K in Q8
         let bound = ((k * sd) >> 8)
             .saturating_add(horizontal)

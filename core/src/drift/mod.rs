@@ -89,6 +89,9 @@ pub struct Drift {
     /// The longest stroke of a hand [s], `0.2..=2.4`: its acceleration keeps one sign for at
     /// most half of it. Sets the tilt tests.
     pub stroke_max_s: f64,
+    /// The longest glide of a drag [s], `0..=60`: a glide's velocity that faded below its
+    /// uncertainty is carried into a motion that starts within this time (its ramp down).
+    pub glide_max_s: f64,
     /// The slowest rise of a lift to be caught [s], `0.05..=0.5`, or `None` for no lift
     /// detection (a two-axis sensor). Sets the lift test's window.
     pub lift_rise_s: Option<f64>,
@@ -110,6 +113,7 @@ impl Default for Drift {
     /// - `knock_hz` 20: a desk top rings at 20-60 Hz, a machine at 30-100 Hz, a hand stays
     ///   below 10 Hz (REFERENCE (j));
     /// - `stroke_max_s` 2 s: the longest pointing stroke of the hand model (issue 22);
+    /// - `glide_max_s` 4 s: the longest glide of the hand model's drags;
     /// - `lift_rise_s` 0.5 s: the slowest lift of the hand model;
     /// - `mount_tilt_deg` 5: a sensor soldered within 4 degrees of the case's floor and the
     ///   ADXL335's 1 % cross-axis sensitivity;
@@ -122,6 +126,7 @@ impl Default for Drift {
             hold_s: 0.016,
             knock_hz: 20.0,
             stroke_max_s: 2.0,
+            glide_max_s: 4.0,
             lift_rise_s: Some(0.5),
             mount_tilt_deg: 5.0,
             bias_tau_s: Some(2.0),
@@ -142,6 +147,8 @@ pub enum DriftError {
     Knock,
     /// `stroke_max_s` outside `0.2..=2.4`, or half of it longer than the block ring.
     Stroke,
+    /// `glide_max_s` outside `0..=60`.
+    Glide,
     /// `lift_rise_s` outside `0.05..=0.5`, or its window longer than the tick ring.
     Lift,
     /// `mount_tilt_deg` outside `0..=30`.
@@ -159,6 +166,7 @@ impl fmt::Display for DriftError {
             Self::Hold => "drift.hold_s: must be within 0..=0.1 s",
             Self::Knock => "drift.knock_hz: must be within 5..=200 Hz (and its filter fit 320 ms)",
             Self::Stroke => "drift.stroke_max_s: must be within 0.2..=2.4 s",
+            Self::Glide => "drift.glide_max_s: must be within 0..=60 s",
             Self::Lift => "drift.lift_rise_s: must be within 0.05..=0.5 s, or off",
             Self::MountTilt => "drift.mount_tilt_deg: must be within 0..=30 degrees",
             Self::BiasTau => "drift.bias_tau_s: must be at least 0.2 s and below 1e6 s, or off",
@@ -251,12 +259,15 @@ pub struct DriftSettings {
     pub(crate) band_gain_q16: u64,
     /// Largest gain of the quiet window above `knock_hz` (Q16).
     pub(crate) quiet_gain_q16: u64,
-    /// The tilt test's sub-window [blocks] and its largest gain above `knock_hz` (Q16).
-    pub(crate) sub_blocks: u32,
-    pub(crate) sub_gain_q16: u64,
+    /// The tilt test's sub-windows [blocks] and their largest gains above `knock_hz` (Q16).
+    pub(crate) sub_blocks: [u32; 2],
+    pub(crate) sub_gain_q16: [u64; 2],
     /// The landing test's window [blocks] and the largest gain of a third of it (Q16).
     pub(crate) land_blocks: u32,
     pub(crate) land_gain_q16: u64,
+    /// A glide fades after this many quiet ticks; its velocity waits this many [ticks].
+    pub(crate) fade_ticks: u32,
+    pub(crate) glide_ticks: u32,
     /// The disturbance's average: `2^dist_shift` ticks; its margin over the noise (Q8).
     pub(crate) dist_shift: u32,
     pub(crate) dist_margin_q8: u64,
@@ -271,7 +282,8 @@ pub struct DriftSettings {
     pub(crate) hold: u64,
     /// Quiet window [ticks].
     pub(crate) quiet_ticks: u32,
-    /// Tilt durations [blocks]: the one-sided hold, the tilt's confirmation.
+    /// Tilt durations [blocks]: the one-sided hold, the tilt's confirmation less the
+    /// sub-window.
     pub(crate) tilt_blocks: [u32; 2],
     /// The lift test: window [ticks], persistence [ticks], sd multiple squared (Q8), mounting
     /// ratio (Q16); `None` without lift detection.
@@ -323,13 +335,16 @@ impl Drift {
         let block_s = f64::from(block) * tick_s;
         // Tilt durations (tilt.rs): the hold after an eighth of the longest stroke (its
         // runaway bound), the confirmation after half of it plus the sub-window.
-        let sub_blocks = round(tilt::SUB_S / block_s).max(1) as u32;
-        let hold_blocks = (round(self.stroke_max_s / 8.0 / block_s) as u32).max(sub_blocks + 1);
-        let confirm = round(self.stroke_max_s / 2.0 / block_s) as u32 + sub_blocks;
+        let sub_blocks = tilt::SUB_S.map(|w| round(w / block_s).max(1) as u32);
+        let hold_blocks = (round(self.stroke_max_s / 8.0 / block_s) as u32).max(sub_blocks[0] + 1);
+        let confirm = round(self.stroke_max_s / 2.0 / block_s) as u32;
         // The landing window (lift.rs): the hold's, in thirds.
         let land_blocks = hold_blocks.max(3);
-        if land_blocks as usize > BLOCKS - 1 {
+        if land_blocks as usize > BLOCKS - 1 || sub_blocks[1] as usize > BLOCKS - 1 {
             return Err(DriftError::Stroke);
+        }
+        if !within(self.glide_max_s, 0.0, 60.0) {
+            return Err(DriftError::Glide);
         }
         let lift = match self.lift_rise_s {
             None => None,
@@ -401,12 +416,14 @@ impl Drift {
             block,
             dist_shift,
             dist_margin_q8: round(dist_margin * 256.0),
+            fade_ticks: round(self.stroke_max_s / 8.0 / tick_s).max(1) as u32,
+            glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
             band_delay: (l1 + l2 - 2) / 2,
             band_gain_q16: q16(band_gain),
             quiet_gain_q16: q16(quiet_gain),
             sub_blocks,
-            sub_gain_q16: q16(window_gain(sub_blocks * block)),
+            sub_gain_q16: sub_blocks.map(|m| q16(window_gain(m * block))),
             land_blocks,
             land_gain_q16: q16(window_gain(land_blocks / 3 * block)),
             vib_velocity_q16: q16(vel),
@@ -468,11 +485,14 @@ pub enum State {
 pub enum Action {
     /// Nothing.
     None,
-    /// A motion started: integrate the last `ticks` complete ticks and the current tick's
-    /// samples so far ([`Detector::replay`]) from zero velocity, then every sample.
+    /// A motion started: from the velocity `carry` (zero, or a glide's that faded below its
+    /// uncertainty, [`estimator`]), integrate the last `ticks` complete ticks and the current
+    /// tick's samples so far ([`Detector::replay`]), then every sample.
     Start {
         /// Complete ticks to replay, `0..REPLAY`.
         ticks: usize,
+        /// The velocity the motion starts from (`W = 2 V`, Q16 counts times samples).
+        carry: [i64; 3],
     },
     /// The motion ended: zero velocity; what was integrated stays.
     Stop,
@@ -500,6 +520,7 @@ pub struct Detector {
     pub(crate) learn: noise::Learn,
     pub(crate) rest: rest::Rest,
     pub(crate) motion: estimator::Motion,
+    pub(crate) latent: estimator::Latent,
     pub(crate) tilt: tilt::Tilt,
     pub(crate) lift: lift::Lift,
     pub(crate) click: click::Click,
@@ -524,6 +545,7 @@ impl Detector {
             learn: noise::Learn::default(),
             rest: rest::Rest::default(),
             motion: estimator::Motion::default(),
+            latent: estimator::Latent::default(),
             tilt: tilt::Tilt::default(),
             lift: lift::Lift::default(),
             click: click::Click::default(),

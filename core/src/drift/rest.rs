@@ -196,13 +196,16 @@ impl Detector {
         let ticks = (t - onset.min(t))
             .min(REPLAY as u64 - 1)
             .min(t.saturating_sub(1));
+        let latent = self.take_latent(s);
         self.enter(State::Moving);
         let samples = ticks * u64::from(s.tick) + u64::from(self.stream.partial_samples());
-        self.motion.begin(samples);
+        self.motion
+            .begin(latent.map_or(samples, |(_, since)| since.max(samples)));
         self.click.begin_motion(s, samples, step);
         self.count_runs(s, ticks / u64::from(s.block), bias);
         Action::Start {
             ticks: ticks as usize,
+            carry: latent.map_or([0; 3], |(w, _)| w),
         }
     }
 }

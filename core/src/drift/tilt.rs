@@ -10,27 +10,31 @@
 //! statistic tells them apart, so the damage is bounded, not avoided.
 //!
 //! # The test, on 20 ms blocks of raw code sums
-//! Per horizontal axis, at each block's end, the last `m` blocks (a sub-window of 100 ms)
-//! have an offset `o` from the zero (a sum of `n` samples); it is **significant** when `|o| >
-//! K_TILT sd(o) + G A n / D` (`sd^2 = q n (1 + n / N_b)`; `G` the gain of a 100 ms boxcar
-//! above `knock_hz`, `A` the measured disturbance, [`super::noise`]). The axis's **run** is
-//! the number of consecutive blocks whose sub-window was significant with one sign: the
-//! acceleration has kept that sign for `run + m - 1` blocks. A hand's acceleration passes
-//! through zero at the end of each lobe (linearly, as a minimum-jerk stroke's does), and a
-//! 100 ms sub-window centred on that crossing is not significant: the run breaks.
+//! Per horizontal axis and scale, at each block's end, the last `m` blocks (a sub-window of
+//! 100 ms or of 400 ms) have an offset `o` from the zero (a sum of `n` samples); it is
+//! **significant** when `|o| > K_TILT sd(o) + G A n / D` (`sd^2 = q n (1 + n / N_b)`; `G` the
+//! gain of the sub-window's boxcar above `knock_hz`, `A` the measured disturbance,
+//! [`super::noise`]). The axis's **run** at a scale is the number of consecutive blocks
+//! whose sub-window was significant with one sign: the acceleration has kept that sign for
+//! `run + m - 1` blocks. A hand's acceleration passes through zero at the end of each lobe,
+//! antisymmetrically about the crossing (as a minimum-jerk stroke's does), so a sub-window
+//! centred on that crossing averages to zero and is not significant: the run breaks, at
+//! either scale. The short scale sees a large acceleration's sign change within 100 ms; the
+//! long one sees a small steady leak (a slight tilt, or what a slow tilt adds after the zero
+//! was taken) that a 100 ms window cannot tell from noise.
 //!
-//! - **Hold**: an axis one-sided for `T_max / 8` (0.25 s): the motion is still integrated but
+//! - **Hold**: an axis one-sided for `T_max / 8` (0.25 s) at either scale: the motion is still integrated but
 //!   not delivered; the cursor stops. This bounds a tilt's runaway: what it integrated
 //!   before the hold, `g sin(theta) (t_detect + T_max / 8)^2 / 2` for a sudden tilt. A stroke
 //!   longer than `T_max / 4` is held during part of each lobe (its cursor pauses, then
 //!   catches up).
-//! - **Release**: held, and no axis one-sided for `T_max / 8` any more (the acceleration
+//! - **Release**: held, and no axis one-sided for `T_max / 8` at either scale (the acceleration
 //!   reversed or went quiet, as a hand's does): what was held is delivered.
-//! - **Tilt**: an axis one-sided for `T_max / 2` plus the sub-window: no lobe of a hand's
-//!   stroke is that long, and the sub-window ensures the test has seen past its end. The held
-//!   motion is dropped and the zeros become the last sub-window's means (on every axis: Z
-//!   moves by `g (1 - cos theta)`); Still. A pad still tilting goes on as a new motion, held
-//!   again.
+//! - **Tilt**: an axis one-sided for `T_max / 2` plus the sub-window at a scale: no lobe of a
+//!   hand's stroke is that long, and the sub-window ensures the test has seen past its end.
+//!   The held motion is dropped and the zeros become the means of the longest sub-window
+//!   that is one-sided (on every axis: Z moves by `g (1 - cos theta)`); Still. A pad still
+//!   tilting goes on as a new motion, held again.
 //!
 //! At a start the runs are counted back over the motion's replayed blocks, so that a motion
 //! found late (a slow tilt) is judged from its onset.
@@ -51,14 +55,14 @@ use super::{Action, Detector, DriftSettings, State, REPLAY};
 /// The tilt tests' bound [sd], squared, Q8.
 const K_TILT2_Q8: u64 = 9 * 256;
 
-/// The tilt test's sub-window [s].
-pub const SUB_S: f64 = 0.1;
+/// The tilt test's sub-windows [s]: the short scale and the long one.
+pub const SUB_S: [f64; 2] = [0.1, 0.4];
 
 /// The tilt tests' state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Tilt {
-    /// Per horizontal axis, the sign of the run and its length [blocks].
-    run: [(i8, u32); 2],
+    /// Per scale and horizontal axis, the sign of the run and its length [blocks].
+    run: [[(i8, u32); 2]; 2],
     /// Whether the motion is held.
     held: bool,
 }
@@ -71,14 +75,15 @@ impl Tilt {
 }
 
 impl Detector {
-    /// The sub-window ending `back` blocks ago (0: the last complete block) on `axis`: its
-    /// sign if it is significantly off `bias` (see the module docs), 0 if not.
-    fn sub_sign(&self, s: &DriftSettings, axis: usize, back: u32, bias: i64) -> i8 {
-        let m = s.sub_blocks;
+    /// The sub-window of `scale` ending `back` blocks ago (0: the last complete block) on
+    /// `axis`: its sign if it is significantly off `bias` (see the module docs), 0 if not.
+    fn sub_sign(&self, s: &DriftSettings, scale: usize, axis: usize, back: u32, bias: i64) -> i8 {
+        let m = s.sub_blocks[scale];
         let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
         let o = offset(self.stream.blocks_sum(axis, back + 1, back + m + 1), n, bias);
         let ticks = n / u64::from(s.tick);
-        let allow = ((u128::from(s.sub_gain_q16) * u128::from(self.disturbance[axis].amp_q16)
+        let allow = ((u128::from(s.sub_gain_q16[scale])
+            * u128::from(self.disturbance[axis].amp_q16)
             * u128::from(ticks))
             >> 16)
             .min(u128::from(u64::MAX)) as u64;
@@ -93,49 +98,59 @@ impl Detector {
     /// The runs at a motion's start: counted back over its replayed blocks (`blocks` whole
     /// blocks since its onset).
     pub(crate) fn count_runs(&mut self, s: &DriftSettings, blocks: u64, bias: [i64; 3]) {
-        let m = u64::from(s.sub_blocks);
-        for a in 0..2 {
-            let mut run = (0i8, 0u32);
-            let mut back = 0u32;
-            while u64::from(back) + m <= blocks && (back as usize) + (m as usize) < super::BLOCKS {
-                let sign = self.sub_sign(s, a, back, bias[a]);
-                if sign == 0 || (run.1 > 0 && sign != run.0) {
-                    break;
+        for scale in 0..2 {
+            let m = u64::from(s.sub_blocks[scale]);
+            for a in 0..2 {
+                let mut run = (0i8, 0u32);
+                let mut back = 0u32;
+                while u64::from(back) + m <= blocks
+                    && (back as usize) + (m as usize) < super::BLOCKS
+                {
+                    let sign = self.sub_sign(s, scale, a, back, bias[a]);
+                    if sign == 0 || (run.1 > 0 && sign != run.0) {
+                        break;
+                    }
+                    run = (sign, run.1 + 1);
+                    back += 1;
                 }
-                run = (sign, run.1 + 1);
-                back += 1;
+                self.tilt.run[scale][a] = run;
             }
-            self.tilt.run[a] = run;
         }
         self.tilt.held = false;
     }
 
-    /// The longest one-sided stretch over the horizontal axes [blocks].
-    fn one_sided_blocks(&self, s: &DriftSettings) -> u32 {
-        self.tilt
-            .run
-            .iter()
-            .map(|&(_, r)| if r == 0 { 0 } else { r + s.sub_blocks - 1 })
-            .max()
-            .unwrap_or(0)
+    /// Per scale, the longest one-sided stretch over the horizontal axes [blocks].
+    fn one_sided_blocks(&self, s: &DriftSettings) -> [u32; 2] {
+        core::array::from_fn(|scale| {
+            self.tilt.run[scale]
+                .iter()
+                .map(|&(_, r)| if r == 0 { 0 } else { r + s.sub_blocks[scale] - 1 })
+                .max()
+                .unwrap_or(0)
+        })
     }
 
     /// The tilt tests at a block's end while moving.
     pub(crate) fn tilt_block(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
-        for a in 0..2 {
-            let sign = self.sub_sign(s, a, 0, bias[a]);
-            let run = &mut self.tilt.run[a];
-            *run = match sign {
-                0 => (0, 0),
-                _ if sign == run.0 => (sign, run.1 + 1),
-                _ => (sign, 1),
-            };
+        for scale in 0..2 {
+            for a in 0..2 {
+                let sign = self.sub_sign(s, scale, a, 0, bias[a]);
+                let run = &mut self.tilt.run[scale][a];
+                *run = match sign {
+                    0 => (0, 0),
+                    _ if sign == run.0 => (sign, run.1 + 1),
+                    _ => (sign, 1),
+                };
+            }
         }
-        let [hold, confirm] = s.tilt_blocks;
+        let hold = s.tilt_blocks[0];
         let sided = self.one_sided_blocks(s);
-        if sided >= confirm {
-            // A tilt: the zeros become the last sub-window's means; the runaway goes.
-            let m = s.sub_blocks;
+        let confirmed = (0..2)
+            .rev()
+            .find(|&scale| sided[scale] >= s.tilt_blocks[1] + s.sub_blocks[scale]);
+        if let Some(scale) = confirmed {
+            // A tilt: the zeros become the sub-window's means; the runaway goes.
+            let m = s.sub_blocks[scale];
             let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
             let level: [i64; 3] = core::array::from_fn(|a| {
                 let o = offset(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
@@ -149,7 +164,7 @@ impl Detector {
                 discard: true,
             };
         }
-        self.tilt.held = sided >= hold;
+        self.tilt.held = sided.iter().any(|&b| b >= hold);
         Action::None
     }
 
