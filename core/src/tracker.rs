@@ -256,18 +256,18 @@ impl Tracker {
         let s = &self.settings;
         match action {
             Action::None => {}
-            Action::Start { ticks, carry } => {
+            Action::Start { blocks, carry } => {
                 self.counters.motions += 1;
                 for (axis, w) in self.axes.iter_mut().zip(carry) {
                     axis.set_velocity(w);
                 }
                 if let (Some(det), Some(ds)) = (&self.detector, s.drift()) {
-                    if let Some(prev) = det.replay_prev(ticks) {
+                    if let Some(prev) = det.replay_prev(blocks) {
                         for (axis, y) in self.axes.iter_mut().zip(prev) {
                             axis.prime(y);
                         }
                     }
-                    for sums in det.replay(ds, ticks) {
+                    for sums in det.replay(ds, blocks) {
                         for (axis, b) in self.axes.iter_mut().zip(&sums) {
                             axis.integrate_block(s, b);
                         }

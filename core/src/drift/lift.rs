@@ -41,7 +41,7 @@
 //! window holds only ticks at the new zero.
 
 use super::noise::within;
-use super::ticks::offset;
+use super::ticks::offset_q16;
 use super::{Action, Detector, DriftSettings, State, RING};
 
 /// The landing test's bound [sd], squared, Q8 (the tilt test's).
@@ -137,7 +137,7 @@ fn thirds(d: &Detector, s: &DriftSettings, axis: usize, m: u32, bias: i64) -> [(
         // Blocks back: from cut[j + 1] + 1 to cut[j] inclusive.
         let (from, to) = (cut[j + 1] + 1, cut[j] + 1);
         let n = u64::from(to - from) * u64::from(s.block) * u64::from(s.tick);
-        (offset(d.stream.blocks_sum(axis, from, to), n, bias), n)
+        (offset_q16(d.stream.blocks_sum(axis, from, to), n, bias), n)
     })
 }
 

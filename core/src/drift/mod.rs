@@ -54,11 +54,12 @@ pub const TICK_S: f64 = 0.005;
 /// Ticks of raw-code sums kept (320 ms at 5 ms ticks): the longest tick window (the lift's,
 /// the hand-band filter's, the quiet test's).
 pub const RING: usize = 64;
-/// Ticks of integrated-sample sums kept for replaying a motion's onset (320 ms at 5 ms
-/// ticks; a motion replays at most `REPLAY - 1` of them, the oldest primes the trapezoid).
+/// Ticks at rest before the zero takes a tick in (320 ms at 5 ms ticks): older than any
+/// onset a start test could still claim at its alarm.
 pub const REPLAY: usize = 64;
-/// 20 ms blocks of raw-code sums kept for the tilt tests (1.28 s at 5 ms ticks): at least
-/// half the longest stroke ([`Drift::stroke_max_s`] up to 2.4 s).
+/// 20 ms blocks of integrated-sample sums kept (1.28 s at 5 ms ticks): for replaying a
+/// motion's onset (a motion replays at most `BLOCKS - 1` of them, the oldest primes the
+/// trapezoid) and for the tilt tests.
 pub const BLOCKS: usize = 64;
 /// Length of a block [s] (rounded to whole ticks).
 pub const BLOCK_S: f64 = 0.02;
@@ -282,8 +283,7 @@ pub struct DriftSettings {
     pub(crate) hold: u64,
     /// Quiet window [ticks].
     pub(crate) quiet_ticks: u32,
-    /// Tilt durations [blocks]: the one-sided hold, the tilt's confirmation less the
-    /// sub-window.
+    /// Tilt durations [blocks]: the one-sided hold, half the longest stroke.
     pub(crate) tilt_blocks: [u32; 2],
     /// The lift test: window [ticks], persistence [ticks], sd multiple squared (Q8), mounting
     /// ratio (Q16); `None` without lift detection.
@@ -336,7 +336,7 @@ impl Drift {
         // Tilt durations (tilt.rs): the hold after an eighth of the longest stroke (its
         // runaway bound), the confirmation after half of it plus the sub-window.
         let sub_blocks = tilt::SUB_S.map(|w| round(w / block_s).max(1) as u32);
-        let hold_blocks = (round(self.stroke_max_s / 8.0 / block_s) as u32).max(sub_blocks[0] + 1);
+        let hold_blocks = (round(self.stroke_max_s / 8.0 / block_s) as u32).max(1);
         let confirm = round(self.stroke_max_s / 2.0 / block_s) as u32;
         // The landing window (lift.rs): the hold's, in thirds.
         let land_blocks = hold_blocks.max(3);
@@ -489,8 +489,8 @@ pub enum Action {
     /// uncertainty, [`estimator`]), integrate the last `ticks` complete ticks and the current
     /// tick's samples so far ([`Detector::replay`]), then every sample.
     Start {
-        /// Complete ticks to replay, `0..REPLAY`.
-        ticks: usize,
+        /// Complete blocks to replay, `0..BLOCKS`.
+        blocks: usize,
         /// The velocity the motion starts from (`W = 2 V`, Q16 counts times samples).
         carry: [i64; 3],
     },
@@ -575,6 +575,7 @@ impl Detector {
     /// and the detector waits at rest for the next start.
     pub fn restart(&mut self) {
         self.enter_still();
+        self.latent = estimator::Latent::default();
     }
 
     /// Adds one sample: its raw `codes`, its integrated values `y` (Q16 counts), the axes'
@@ -652,19 +653,19 @@ impl Detector {
         self.stream.ticks() - self.entered
     }
 
-    /// The integrated-sample sums of the last `ticks` complete ticks (`< REPLAY`), oldest
-    /// first, then those of the current tick so far (if it has samples).
+    /// The integrated-sample sums of the last `blocks` complete blocks (`< BLOCKS`), oldest
+    /// first, then those of the current block so far.
     pub fn replay(
         &self,
         s: &DriftSettings,
-        ticks: usize,
+        blocks: usize,
     ) -> impl Iterator<Item = [crate::integrator::BlockSums; 3]> + '_ {
-        self.stream.replay(s, ticks)
+        self.stream.replay(s, blocks)
     }
 
-    /// The last integrated sample of the tick before the last `ticks` complete ones (Q16
-    /// counts), to prime a trapezoid replay; `None` if there is no such tick.
-    pub fn replay_prev(&self, ticks: usize) -> Option<[i64; 3]> {
-        self.stream.replay_prev(ticks)
+    /// The last integrated sample of the block before the last `blocks` complete ones (Q16
+    /// counts), to prime a trapezoid replay; `None` if there is no such block.
+    pub fn replay_prev(&self, blocks: usize) -> Option<[i64; 3]> {
+        self.stream.replay_prev(blocks)
     }
 }

@@ -37,7 +37,7 @@
 
 use super::noise::{Disturbance, Noise};
 use super::ticks::{offset, TickStream};
-use super::{Action, Detector, DriftSettings, State, REPLAY};
+use super::{Action, Detector, DriftSettings, State, BLOCKS};
 
 /// The CUSUMs' reference values `kappa` [sd of a tick sum]: slow (filtered), fast (raw).
 pub const KAPPA: [f64; 2] = [0.5, 1.5];
@@ -181,9 +181,9 @@ impl Detector {
         alarm.map_or(Action::None, |onset| self.start(s, onset, step, bias))
     }
 
-    /// A motion starts: replay the complete ticks since `onset` (at most `REPLAY - 1`) and
-    /// the current tick's samples so far. It is held until `hold_s` after its onset; after a
-    /// `step` until `hold_s` after now ([`super::click`]).
+    /// A motion starts: replay the complete blocks since the one `onset` (a tick) lies in (at
+    /// most `BLOCKS - 1`) and the current block's samples so far. It is held until `hold_s`
+    /// after its onset; after a `step` until `hold_s` after now ([`super::click`]).
     pub(crate) fn start(
         &mut self,
         s: &DriftSettings,
@@ -191,20 +191,22 @@ impl Detector {
         step: bool,
         bias: [i64; 3],
     ) -> Action {
-        let t = self.stream.ticks();
-        // Keep one tick before the replay: it primes the trapezoid.
-        let ticks = (t - onset.min(t))
-            .min(REPLAY as u64 - 1)
-            .min(t.saturating_sub(1));
+        let done = self.stream.blocks();
+        let onset_block = onset / u64::from(s.block);
+        // Keep one block before the replay: it primes the trapezoid.
+        let blocks = (done - onset_block.min(done))
+            .min(BLOCKS as u64 - 1)
+            .min(done.saturating_sub(1));
         let latent = self.take_latent(s);
         self.enter(State::Moving);
-        let samples = ticks * u64::from(s.tick) + u64::from(self.stream.partial_samples());
+        let samples = blocks * u64::from(s.block) * u64::from(s.tick)
+            + u64::from(self.stream.samples_in_block());
         self.motion
             .begin(latent.map_or(samples, |(_, since)| since.max(samples)));
         self.click.begin_motion(s, samples, step);
-        self.count_runs(s, ticks / u64::from(s.block), bias);
+        self.count_runs(s, blocks, bias);
         Action::Start {
-            ticks: ticks as usize,
+            blocks: blocks as usize,
             carry: latent.map_or([0; 3], |(w, _)| w),
         }
     }

@@ -2,10 +2,9 @@
 //!
 //! # Ticks
 //! A tick is `D = ceil(fs * 5 ms)` samples ([`super::tick_samples`]). Per tick and axis the
-//! stream keeps the sum of the raw codes `s` (a ring of [`super::RING`] ticks: the tests'
-//! windows) and the [`BlockSums`] of the integrated samples (a ring of [`super::REPLAY`]
-//! ticks: a motion's onset is integrated after the fact, exactly). A sample costs one add per
-//! axis and sum; everything else runs once a tick.
+//! stream keeps the sum of the raw codes `s` (a ring of [`super::RING`] ticks: the tick-level
+//! tests' windows). A sample costs one add per axis and sum; everything else runs once a
+//! tick.
 //!
 //! # The hand-band filter
 //! A hand on a desk moves below about 10 Hz; a desk top rings at 20-60 Hz and a machine
@@ -26,17 +25,20 @@
 //! only when a sum is used, so a new zero needs no recomputation.
 //!
 //! # Blocks
-//! Every `round(20 ms / tick)` ticks the block's raw sums close into a ring of
-//! [`super::BLOCKS`] blocks (1.28 s at 5 ms ticks): the tilt tests' windows, up to half the
-//! longest stroke.
+//! Every `round(20 ms / tick)` ticks the [`BlockSums`] of the block's integrated samples
+//! close into a ring of [`super::BLOCKS`] blocks (1.28 s at 5 ms ticks): a motion's onset is
+//! integrated after the fact, exactly, from the start of the block it lies in (up to 1.28 s
+//! back: a slow stroke found late loses nothing of its start), and the tilt tests' windows.
+//! Two consecutive blocks' sums merge exactly: `n = n1 + n2`, `sum = sum1 + sum2`,
+//! `prefixes = prefixes1 + prefixes2 + n2 sum1`.
 
 use crate::calibration::Calibration;
 use crate::integrator::BlockSums;
 
-use super::{DriftSettings, BLOCKS, REPLAY, RING};
+use super::{DriftSettings, BLOCKS, RING};
 
-/// One axis's integrated-sample sums over one tick, compact ([`BlockSums`] without the
-/// tick's length and first sample, which the replay does not need).
+/// One axis's integrated-sample sums over one block, compact ([`BlockSums`] without the
+/// block's length and first sample, which the replay does not need).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct TickSums {
     sum: i64,
@@ -56,12 +58,11 @@ struct Band {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TickStream {
     codes: [[u32; 3]; RING],
-    sums: [[TickSums; 3]; REPLAY],
-    blocks: [[u32; 3]; BLOCKS],
+    blocks: [[TickSums; 3]; BLOCKS],
     cur_codes: [u32; 3],
     cur_sums: [BlockSums; 3],
     cur_n: u32,
-    cur_block: [u32; 3],
+    cur_block: [BlockSums; 3],
     block_ticks: u32,
     band: [Band; 3],
     ticks: u64,
@@ -84,14 +85,19 @@ impl TickStream {
             g: l1 * u64::from(t),
             f2: l1 * l2 * u64::from(t),
         });
+        let n = i64::from(s.block) * i64::from(s.tick);
+        let block = cal.map(|c| TickSums {
+            sum: n * c.bias_q16,
+            sum_of_prefixes: 0,
+            last: c.bias_q16,
+        });
         Self {
             codes: [tick_sum; RING],
-            sums: [[TickSums::default(); 3]; REPLAY],
-            blocks: [tick_sum.map(|t| t * s.block); BLOCKS],
+            blocks: [block; BLOCKS],
             cur_codes: [0; 3],
             cur_sums: [BlockSums::default(); 3],
             cur_n: 0,
-            cur_block: [0; 3],
+            cur_block: [BlockSums::default(); 3],
             block_ticks: 0,
             band,
             ticks: 0,
@@ -130,21 +136,21 @@ impl TickStream {
             band.f2 = band.f2 + band.f1 - band.g;
         }
         self.codes[t % RING] = codes;
-        self.sums[t % REPLAY] = core::mem::take(&mut self.cur_sums).map(|b| TickSums {
-            sum: b.sum,
-            sum_of_prefixes: b.sum_of_prefixes,
-            last: b.last,
-        });
+        let tick = core::mem::take(&mut self.cur_sums);
+        for (b, t) in self.cur_block.iter_mut().zip(&tick) {
+            *b = merge(b, t);
+        }
         self.cur_n = 0;
         self.ticks += 1;
-        for (b, c) in self.cur_block.iter_mut().zip(codes) {
-            *b += c;
-        }
         self.block_ticks += 1;
         self.block_closed = self.block_ticks >= s.block;
         if self.block_closed {
             self.blocks[(self.blocks_done % BLOCKS as u64) as usize] =
-                core::mem::take(&mut self.cur_block);
+                core::mem::take(&mut self.cur_block).map(|b| TickSums {
+                    sum: b.sum,
+                    sum_of_prefixes: b.sum_of_prefixes,
+                    last: b.last,
+                });
             self.blocks_done += 1;
             self.block_ticks = 0;
         }
@@ -176,13 +182,14 @@ impl TickStream {
         sums
     }
 
-    /// The raw code sum of `axis` over blocks `from..to` back (`1` = the last complete
-    /// block), `to <= BLOCKS + 1`.
-    pub(crate) fn blocks_sum(&self, axis: usize, from: u32, to: u32) -> u64 {
+    /// The integrated-sample sum of `axis` over blocks `from..to` back (`1` = the last
+    /// complete block), `to <= BLOCKS + 1` [Q16 LSB samples]: below `2^64` blocks of
+    /// `2^47`.
+    pub(crate) fn blocks_sum(&self, axis: usize, from: u32, to: u32) -> i64 {
         (from..to)
             .map(|k| {
                 let i = self.blocks_done.wrapping_sub(u64::from(k)) % BLOCKS as u64;
-                u64::from(self.blocks[i as usize][axis])
+                self.blocks[i as usize][axis].sum
             })
             .sum()
     }
@@ -190,6 +197,11 @@ impl TickStream {
     /// Complete blocks so far.
     pub(crate) const fn blocks(&self) -> u64 {
         self.blocks_done
+    }
+
+    /// Samples since the last complete block (its closed ticks and the current tick so far).
+    pub(crate) fn samples_in_block(&self) -> u32 {
+        self.cur_block[0].n + self.cur_n
     }
 
     /// The hand-band filter's output on `axis` as an offset from `bias` (Q16 counts), per
@@ -221,18 +233,19 @@ impl TickStream {
         self.cur_n
     }
 
-    /// The integrated-sample sums of the last `ticks` complete ticks (`< REPLAY`), oldest
-    /// first, then those of the current tick so far (if it has samples).
+    /// The integrated-sample sums of the last `blocks` complete blocks (`< BLOCKS`), oldest
+    /// first, then those of the current block's closed ticks and the current tick so far
+    /// (those that have samples).
     pub(crate) fn replay(
         &self,
         s: &DriftSettings,
-        ticks: usize,
+        blocks: usize,
     ) -> impl Iterator<Item = [BlockSums; 3]> + '_ {
-        let first = self.ticks - ticks.min(REPLAY - 1) as u64;
-        let n = s.tick;
-        (first..self.ticks)
+        let first = self.blocks_done - blocks.min(BLOCKS - 1) as u64;
+        let n = s.block * s.tick;
+        (first..self.blocks_done)
             .map(move |i| {
-                self.sums[(i % REPLAY as u64) as usize].map(|t| BlockSums {
+                self.blocks[(i % BLOCKS as u64) as usize].map(|t| BlockSums {
                     n,
                     sum: t.sum,
                     sum_of_prefixes: t.sum_of_prefixes,
@@ -240,21 +253,43 @@ impl TickStream {
                     last: t.last,
                 })
             })
+            .chain((self.cur_block[0].n > 0).then_some(self.cur_block))
             .chain((self.cur_n > 0).then_some(self.cur_sums))
     }
 
-    /// The last integrated sample of the tick before the last `ticks` complete ones (Q16
-    /// counts), to prime a trapezoid replay; `None` if there is no such tick.
-    pub(crate) fn replay_prev(&self, ticks: usize) -> Option<[i64; 3]> {
-        let i = self.ticks.checked_sub(ticks as u64 + 1)?;
-        // The ring holds the last REPLAY ticks: a replay of at most REPLAY - 1 (the cap in
+    /// The last integrated sample of the block before the last `blocks` complete ones (Q16
+    /// counts), to prime a trapezoid replay; `None` if there is no such block.
+    pub(crate) fn replay_prev(&self, blocks: usize) -> Option<[i64; 3]> {
+        let i = self.blocks_done.checked_sub(blocks as u64 + 1)?;
+        // The ring holds the last BLOCKS blocks: a replay of at most BLOCKS - 1 (the cap in
         // `start`) leaves its predecessor in it.
-        (ticks < REPLAY).then(|| self.sums[(i % REPLAY as u64) as usize].map(|t| t.last))
+        (blocks < BLOCKS).then(|| self.blocks[(i % BLOCKS as u64) as usize].map(|t| t.last))
     }
 }
 
-/// An offset of a sum of `n` samples from `n` times `bias` (Q16 counts) [Q16 LSB samples]:
+/// Two consecutive blocks' sums as one (see the module docs); the first may be empty. The
+/// result's `first` is not kept (the replay does not need it).
+fn merge(a: &BlockSums, b: &BlockSums) -> BlockSums {
+    if a.n == 0 {
+        return *b;
+    }
+    BlockSums {
+        n: a.n + b.n,
+        sum: a.sum + b.sum,
+        sum_of_prefixes: a.sum_of_prefixes + b.sum_of_prefixes + i64::from(b.n) * a.sum,
+        first: a.first,
+        last: b.last,
+    }
+}
+
+/// An offset of a sum of `n` raw codes from `n` times `bias` (Q16 counts) [Q16 LSB samples]:
 /// `sum 2^16 - n bias`. Sums of up to `2^26` samples of 16-bit codes: below `2^58`.
 pub(crate) fn offset(sum: u64, n: u64, bias: i64) -> i64 {
     ((sum as i64) << 16) - n as i64 * bias
+}
+
+/// An offset of a sum of `n` integrated samples (Q16 counts) from `n` times `bias` [Q16 LSB
+/// samples].
+pub(crate) fn offset_q16(sum: i64, n: u64, bias: i64) -> i64 {
+    sum - n as i64 * bias
 }

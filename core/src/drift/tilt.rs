@@ -15,23 +15,26 @@
 //! **significant** when `|o| > K_TILT sd(o) + G A n / D` (`sd^2 = q n (1 + n / N_b)`; `G` the
 //! gain of the sub-window's boxcar above `knock_hz`, `A` the measured disturbance,
 //! [`super::noise`]). The axis's **run** at a scale is the number of consecutive blocks
-//! whose sub-window was significant with one sign: the acceleration has kept that sign for
-//! `run + m - 1` blocks. A hand's acceleration passes through zero at the end of each lobe,
+//! whose sub-window was significant with one sign. A lobe of one sign lasting `L` blocks can
+//! make at most `L + m - 1` sub-windows significant (each must overlap it), so a run `r` says
+//! the acceleration kept its sign for at least `r - m + 1` blocks: the tests below use that
+//! least length, which no stroke's lobe can make longer than it is. A hand's acceleration
+//! passes through zero at the end of each lobe,
 //! antisymmetrically about the crossing (as a minimum-jerk stroke's does), so a sub-window
 //! centred on that crossing averages to zero and is not significant: the run breaks, at
 //! either scale. The short scale sees a large acceleration's sign change within 100 ms; the
 //! long one sees a small steady leak (a slight tilt, or what a slow tilt adds after the zero
 //! was taken) that a 100 ms window cannot tell from noise.
 //!
-//! - **Hold**: an axis one-sided for `T_max / 8` (0.25 s) at either scale: the motion is still integrated but
+//! - **Hold**: an axis one-sided for at least `T_max / 8` (0.25 s) at either scale: the motion is still integrated but
 //!   not delivered; the cursor stops. This bounds a tilt's runaway: what it integrated
 //!   before the hold, `g sin(theta) (t_detect + T_max / 8)^2 / 2` for a sudden tilt. A stroke
 //!   longer than `T_max / 4` is held during part of each lobe (its cursor pauses, then
 //!   catches up).
 //! - **Release**: held, and no axis one-sided for `T_max / 8` at either scale (the acceleration
 //!   reversed or went quiet, as a hand's does): what was held is delivered.
-//! - **Tilt**: an axis one-sided for `T_max / 2` plus the sub-window at a scale: no lobe of a
-//!   hand's stroke is that long, and the sub-window ensures the test has seen past its end.
+//! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
+//!   stroke is that long.
 //!   The held motion is dropped and the zeros become the means of the longest sub-window
 //!   that is one-sided (on every axis: Z moves by `g (1 - cos theta)`); Still. A pad still
 //!   tilting goes on as a new motion, held again.
@@ -49,7 +52,7 @@
 //! ticks teach the noise ([`super::noise::Learn`]).
 
 use super::noise::within;
-use super::ticks::offset;
+use super::ticks::offset_q16;
 use super::{Action, Detector, DriftSettings, State, REPLAY};
 
 /// The tilt tests' bound [sd], squared, Q8.
@@ -80,7 +83,7 @@ impl Detector {
     fn sub_sign(&self, s: &DriftSettings, scale: usize, axis: usize, back: u32, bias: i64) -> i8 {
         let m = s.sub_blocks[scale];
         let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
-        let o = offset(self.stream.blocks_sum(axis, back + 1, back + m + 1), n, bias);
+        let o = offset_q16(self.stream.blocks_sum(axis, back + 1, back + m + 1), n, bias);
         let ticks = n / u64::from(s.tick);
         let allow = ((u128::from(s.sub_gain_q16[scale])
             * u128::from(self.disturbance[axis].amp_q16)
@@ -119,12 +122,13 @@ impl Detector {
         self.tilt.held = false;
     }
 
-    /// Per scale, the longest one-sided stretch over the horizontal axes [blocks].
+    /// Per scale, the least time the acceleration has kept its sign on a horizontal axis
+    /// [blocks]: `r - m + 1` for a run of `r` sub-windows of `m` blocks.
     fn one_sided_blocks(&self, s: &DriftSettings) -> [u32; 2] {
         core::array::from_fn(|scale| {
             self.tilt.run[scale]
                 .iter()
-                .map(|&(_, r)| if r == 0 { 0 } else { r + s.sub_blocks[scale] - 1 })
+                .map(|&(_, r)| (r + 1).saturating_sub(s.sub_blocks[scale]))
                 .max()
                 .unwrap_or(0)
         })
@@ -145,15 +149,13 @@ impl Detector {
         }
         let hold = s.tilt_blocks[0];
         let sided = self.one_sided_blocks(s);
-        let confirmed = (0..2)
-            .rev()
-            .find(|&scale| sided[scale] >= s.tilt_blocks[1] + s.sub_blocks[scale]);
+        let confirmed = (0..2).rev().find(|&scale| sided[scale] > s.tilt_blocks[1]);
         if let Some(scale) = confirmed {
             // A tilt: the zeros become the sub-window's means; the runaway goes.
             let m = s.sub_blocks[scale];
             let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
             let level: [i64; 3] = core::array::from_fn(|a| {
-                let o = offset(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
+                let o = offset_q16(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
                 bias[a] + crate::math::div_round(o, n as i64)
             });
             self.enter_still();
