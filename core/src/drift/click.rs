@@ -56,6 +56,8 @@ impl Detector {
             State::Lifted => return Action::None,
             State::Still | State::Frozen => Action::None,
         };
+        // A click means the hand is still: a faded glide's velocity is forgotten.
+        self.latent = super::estimator::Latent::default();
         if s.freeze > 0 {
             self.enter(State::Frozen);
             self.click.freeze_left = s.freeze;

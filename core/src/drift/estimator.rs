@@ -32,8 +32,13 @@
 //! acceleration has been quiet for an eighth of the longest stroke (no deceleration brought the
 //! velocity down: a glide faded, it did not end) keeps the velocity as **latent**: the cursor
 //! stops, and a motion that starts within `glide_max_s` of it starts from that velocity, its
-//! uncertainty counted from the glide's own onset. A ramp down then brings it to zero. A stroke
-//! ends with a deceleration, so its stop carries nothing.
+//! uncertainty counted from the glide's own onset. A ramp down then brings it to zero.
+//!
+//! A stroke ends with a deceleration, but near the noise floor its velocity may be explained
+//! before the deceleration is over; what is left of it would start a motion backwards. So
+//! any stop keeps its velocity for an eighth of the longest stroke (the fade's own quiet
+//! time): a motion starting within it resumes the one that stopped. The next stroke of a hand
+//! comes later than that (a rest of 0.3 s or more), and a click forgets it.
 //!
 //! # Error rates
 //! `K^2 = 11.8` (2 degrees of freedom, 0.27 %): a window at rest passes the quiet test with
@@ -42,7 +47,6 @@
 //! grows past it.
 
 use super::click::Click;
-use super::noise::within;
 use super::ticks::offset;
 use super::{Action, Detector, DriftSettings};
 
@@ -68,6 +72,8 @@ pub struct Latent {
     samples: u64,
     /// The tick of its stop.
     at: u64,
+    /// Ticks it waits.
+    life: u32,
 }
 
 impl Motion {
@@ -142,7 +148,7 @@ impl Detector {
     pub(crate) fn take_latent(&mut self, s: &DriftSettings) -> Option<([i64; 3], u64)> {
         let l = core::mem::take(&mut self.latent);
         let since = self.stream.ticks() - l.at;
-        (l.w != [0; 2] && since <= u64::from(s.glide_ticks))
+        (l.w != [0; 2] && since <= u64::from(l.life))
             .then(|| ([l.w[0], l.w[1], 0], l.samples + since * u64::from(s.tick)))
     }
 
@@ -159,14 +165,15 @@ impl Detector {
             // A motion that ends younger than its hold was a jolt, not a stroke; a tilt
             // suspicion that ends in a stop was refuted: deliver.
             let held = self.click.hold_left > 0;
-            let fade = self.motion.quiet_run >= s.fade_ticks && !held;
+            let fade = self.motion.quiet_run >= s.fade_ticks;
             let samples = self.motion.samples;
             self.enter_still();
-            if fade {
+            if !held {
                 self.latent = Latent {
                     w: [velocity[0], velocity[1]],
                     samples,
                     at: self.stream.ticks(),
+                    life: if fade { s.glide_ticks } else { s.fade_ticks },
                 };
             }
             return if held { Action::Discard } else { Action::Stop };

@@ -29,9 +29,14 @@
 //! # Where the motion began
 //! Each CUSUM remembers the tick at which it last left zero: that is where the run that
 //! crossed the alarm began. The raw one's onset is the tick itself; the slow one's is moved
-//! back by the filter's delay. The ticks since the onset (at most [`super::REPLAY`] - 1) are
-//! integrated at once, from zero velocity: a slow stroke found 100 ms in loses nothing of its
-//! start. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
+//! back by the filter's delay. A stroke's acceleration has two lobes of opposite sign; a slow
+//! one's first lobe may fall short of the alarm and its second cross it, and integrating from
+//! the second lobe alone would leave the cursor gliding back at the stroke's peak speed. So
+//! each CUSUM also remembers its other side's last run: if that run ended where this one
+//! began (within the filter's length) and rose above [`LOBE_SD`] sd, which noise alone does
+//! with probability `e^(-2 kappa 5) = 0.7 %` per run, the onset is that run's. The blocks
+//! since the onset (at most [`super::BLOCKS`] - 1, 1.28 s) are integrated at once, from zero
+//! velocity: a slow stroke found half-way loses nothing of its start. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
 //! ramp: its hold runs from now, not from an onset noise may have placed earlier
 //! ([`super::click`]).
 
@@ -41,6 +46,9 @@ use super::{Action, Detector, DriftSettings, State, BLOCKS};
 
 /// The CUSUMs' reference values `kappa` [sd of a tick sum]: slow (filtered), fast (raw).
 pub const KAPPA: [f64; 2] = [0.5, 1.5];
+/// A CUSUM run on the other side that rose this high [sd] and ended where an alarm's run
+/// began is the stroke's first lobe.
+pub const LOBE_SD: i64 = 5;
 /// The same in Q8.
 const KAPPA_Q8: [i64; 2] = [128, 384];
 
@@ -51,6 +59,10 @@ pub struct Rest {
     cusum: [[[i64; 2]; 2]; 2],
     /// The tick each CUSUM last left zero.
     onset: [[[u64; 2]; 2]; 2],
+    /// Each CUSUM's highest value in its current run [Q16 LSB samples].
+    peak: [[[i64; 2]; 2]; 2],
+    /// Each CUSUM's last finished run: its onset, its highest value, the tick it ended.
+    last: [[[(u64, i64, u64); 2]; 2]; 2],
     /// Per horizontal axis and side, how far the current tick's offset so far may go before
     /// the fast CUSUM alarms on it with a whole tick's drift subtracted [Q16 LSB samples]:
     /// `alarm - S + kappa sd + A` ([`Self::within_headroom`]).
@@ -62,6 +74,20 @@ impl Rest {
     pub(crate) fn reset(&mut self, tick: u64) {
         self.cusum = [[[0; 2]; 2]; 2];
         self.onset = [[[tick; 2]; 2]; 2];
+        self.peak = [[[0; 2]; 2]; 2];
+        self.last = [[[(tick, 0, tick); 2]; 2]; 2];
+    }
+
+    /// The onset of the run of CUSUM `c` on `axis`, `side` that alarmed: its own, or its
+    /// other side's last run's if that was the stroke's first lobe (see the module docs).
+    fn onset_of(&self, c: usize, axis: usize, side: usize, sd: i64, slack: u64) -> u64 {
+        let own = self.onset[c][axis][side];
+        let (onset, peak, end) = self.last[c][axis][1 - side];
+        if end + slack >= own && peak >= LOBE_SD * sd {
+            onset.min(own)
+        } else {
+            own
+        }
     }
 
     /// The drifts and alarms of `axis` [Q16 LSB samples]: `([slow, fast] kappa sd + the
@@ -131,16 +157,34 @@ impl Detector {
             let raw = offset(u64::from(self.stream.code(1, a)), u64::from(s.tick), bias[a]);
             let band = self.stream.band_offset(s, a, bias[a]);
             let tests = if band_ready { 0..2 } else { 1..2 };
+            let sd = self.noise[a].sd_q16;
             for (c, z) in [band, raw].into_iter().enumerate().skip(tests.start) {
+                // The filter smears a lobe's end over its length.
+                let slack = if c == 0 {
+                    u64::from(s.band[0] + s.band[1])
+                } else {
+                    1
+                };
                 for (side, z) in [z, -z].into_iter().enumerate() {
-                    let sum = &mut self.rest.cusum[c][a][side];
-                    *sum = (*sum + z - kappa[c]).max(0);
-                    if *sum == 0 {
-                        self.rest.onset[c][a][side] = t;
-                    } else if *sum > limit[c] {
+                    let r = &mut self.rest;
+                    let before = r.cusum[c][a][side];
+                    let sum = (before + z - kappa[c]).max(0);
+                    r.cusum[c][a][side] = sum;
+                    if sum == 0 {
+                        if before > 0 {
+                            r.last[c][a][side] = (r.onset[c][a][side], r.peak[c][a][side], t);
+                        }
+                        r.onset[c][a][side] = t;
+                        r.peak[c][a][side] = 0;
+                    } else {
+                        r.peak[c][a][side] = r.peak[c][a][side].max(sum);
+                    }
+                    if sum > limit[c] {
                         // The slow one's run began the filter's delay before it shows; no run
                         // began before this rest.
-                        let on = self.rest.onset[c][a][side]
+                        let on = self
+                            .rest
+                            .onset_of(c, a, side, sd, slack)
                             .saturating_sub(if c == 0 { u64::from(s.band_delay) } else { 0 })
                             .max(self.entered);
                         alarm = Some(alarm.map_or(on, |o: u64| o.min(on)));

@@ -228,11 +228,6 @@ impl TickStream {
         (i64::from(self.cur_codes[axis]) << 16) - i64::from(self.cur_n) * bias
     }
 
-    /// Samples in the current tick so far.
-    pub(crate) const fn partial_samples(&self) -> u32 {
-        self.cur_n
-    }
-
     /// The integrated-sample sums of the last `blocks` complete blocks (`< BLOCKS`), oldest
     /// first, then those of the current block's closed ticks and the current tick so far
     /// (those that have samples).
