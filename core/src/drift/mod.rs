@@ -130,7 +130,7 @@ impl Default for Drift {
             glide_max_s: 4.0,
             lift_rise_s: Some(0.5),
             mount_tilt_deg: 5.0,
-            bias_tau_s: Some(2.0),
+            bias_tau_s: Some(10.0),
             click_freeze_s: 0.15,
         }
     }
