@@ -462,12 +462,13 @@ pub struct Scenario {
 
 impl Scenario {
     /// The hand's world acceleration, what the sensor reads of knocks and vibration (both
-    /// [m/s^2]) and the tilt at `t` (the last motion that sets a tilt and has begun wins; flat
-    /// before any).
+    /// [m/s^2]) and the tilt at `t`: the tilt of the last motion that sets one and has begun,
+    /// or the `from` of the first that sets one (flat if none does).
     pub fn at(&self, t: f64) -> ([f64; 3], [f64; 3], [f64; 2]) {
         let mut a = [0.0; 3];
         let mut read = [0.0; 3];
-        let mut tilt = [0.0; 2];
+        let mut tilt = None;
+        let mut first = None;
         for m in &self.motions {
             let x = m.accel(t);
             let to = if matches!(m, Motion::Knock { .. } | Motion::Vibration { .. }) {
@@ -479,16 +480,17 @@ impl Scenario {
                 to[k] += x[k];
             }
             if let Some(th) = m.tilt(t) {
+                first = first.or(Some(th));
                 let begun = match *m {
                     Motion::Tilt { t0, .. } | Motion::Lift { t0, .. } => t >= t0,
                     _ => false,
                 };
-                if begun || tilt == [0.0; 2] {
-                    tilt = th;
+                if begun {
+                    tilt = Some(th);
                 }
             }
         }
-        (a, read, tilt)
+        (a, read, tilt.or(first).unwrap_or([0.0; 2]))
     }
 
     /// The true horizontal displacement of every motion [m].
@@ -584,6 +586,34 @@ mod tests {
         assert!(v.abs() < 1e-9 && s.abs() < 1e-9, "{v} {s}");
         let (_, top) = integrate(&l, 0.35, 2);
         assert!((top - 0.005).abs() < 1e-9, "{top}");
+    }
+
+    #[test]
+    fn before_a_tilt_begins_the_device_lies_as_the_first_motion_found_it() {
+        let away = Motion::Lift {
+            t0: 1.0,
+            h: 0.005,
+            rise: 0.2,
+            air: 0.2,
+            fall: 0.2,
+            from: [0.0; 2],
+            to: [0.05, 0.0],
+            in_air: true,
+        };
+        let back = Motion::Lift {
+            t0: 3.0,
+            from: [0.05, 0.0],
+            to: [0.0; 2],
+            ..away
+        };
+        let sc = Scenario {
+            motions: vec![away, back],
+            edges: vec![],
+            seconds: 4.0,
+        };
+        assert_eq!(sc.at(0.5).2, [0.0; 2], "flat before the first lift");
+        assert_eq!(sc.at(2.0).2, [0.05, 0.0], "on the slope between");
+        assert_eq!(sc.at(3.9).2, [0.0; 2], "flat again");
     }
 
     #[test]
