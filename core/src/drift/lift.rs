@@ -33,7 +33,12 @@
 //!   lift stays up.
 //!
 //! # Landing
-//! Lifted, nothing is integrated. Once the last eighth of the longest stroke (0.25 s, in
+//! Lifted, nothing is integrated. A hand holds a lifted mouse still in the air as well as on
+//! the desk, so a landing must follow a fall: the vertical velocity, integrated from the lift
+//! window's start, turning against the rise by `K_LIFT` of its sd `sqrt(q n (1 + n / N_b))`
+//! (a fall is the rise's mirror image: as fast, as visible), or, for a set-down too gentle to
+//! be seen, the longest stroke's time since the lift. Then, once the last eighth of the
+//! longest stroke (0.25 s, in
 //! blocks, [`super::tilt`]) is steady on every axis (its thirds agree within `K_TILT`
 //! sd plus the disturbance's allowance), the device rests: the zeros become that window's
 //! last third's means if any differs from the old zero by more than its noise allows (set
@@ -94,8 +99,15 @@ impl LiftSettings {
 pub struct Lift {
     r0: [u64; 3],
     r1: [u64; 3],
-    /// Ticks in a row past the threshold.
+    /// Ticks in a row past the threshold, and the sign of the displacement.
     above: u32,
+    sign: i8,
+    /// While lifted: the rise's sign, whether the fall has been seen, the vertical velocity
+    /// since the lift window's start [Q16 LSB samples] and its samples.
+    rise: i8,
+    fell: bool,
+    vz: i64,
+    vz_n: u64,
     /// Ticks before the window holds only ticks at the current zeros.
     wait: u32,
 }
@@ -150,7 +162,7 @@ impl Detector {
         d * ((r << 16) - d * i128::from(z) * w * w)
     }
 
-    /// Whether the device has left the desk (see the module docs).
+    /// Whether the device has left the desk (see the module docs); records the rise's sign.
     pub(crate) fn lifted(&mut self, s: &DriftSettings, bias: [i64; 3]) -> bool {
         let Some(l) = s.lift else {
             return false;
@@ -158,7 +170,21 @@ impl Detector {
         if self.lift.wait > 0 {
             return false;
         }
-        let [x, y, z] = core::array::from_fn(|a| self.displacement2(s, &l, a, bias[a]));
+        let up = self.vertical_past_bound(s, &l, bias);
+        if up {
+            self.lift.rise = self.lift.sign;
+            self.lift.fell = false;
+            let n = u64::from(l.window) * u64::from(s.tick);
+            self.lift.vz = super::ticks::offset(self.lift.r0[2], n, bias[2]);
+            self.lift.vz_n = n;
+        }
+        up
+    }
+
+    /// The lift test: whether the vertical displacement has been past its bound for `P`
+    /// ticks in a row (its sign in `lift.sign`).
+    fn vertical_past_bound(&mut self, s: &DriftSettings, l: &LiftSettings, bias: [i64; 3]) -> bool {
+        let [x, y, z] = core::array::from_fn(|a| self.displacement2(s, l, a, bias[a]));
         let n = u128::from(l.window) * u128::from(s.tick);
         // 4/3 q n^3 + q n^4 / N_b, in the squared units of 2 d.
         let q = u128::from(self.noise[2].q_q32);
@@ -178,16 +204,35 @@ impl Detector {
         let bound = ((k * sd) >> 8)
             .saturating_add(horizontal)
             .saturating_add(allow);
-        if z.unsigned_abs() > bound {
+        let sign = z.signum() as i8;
+        if z.unsigned_abs() > bound && (self.lift.above == 0 || sign == self.lift.sign) {
             self.lift.above += 1;
+            self.lift.sign = sign;
+        } else if z.unsigned_abs() > bound {
+            self.lift.above = 1;
+            self.lift.sign = sign;
         } else {
             self.lift.above = 0;
         }
         self.lift.above >= l.persist
     }
 
-    /// Lifted, at a tick's end: wait until steady, then rest (at a new zero if it differs).
+    /// Lifted, at a tick's end: wait for the fall, then until steady, then rest (at a new
+    /// zero if it differs).
     pub(crate) fn lifted_tick(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        if let Some(l) = s.lift {
+            let d = u64::from(s.tick);
+            self.lift.vz += super::ticks::offset(u64::from(self.stream.code(1, 2)), d, bias[2]);
+            self.lift.vz_n += d;
+            let var = self.noise[2].var(self.lift.vz_n, self.bias_samples);
+            let down = -i64::from(self.lift.rise) * self.lift.vz;
+            if down > 0 && !within(down, var, l.k2_q8, 0) {
+                self.lift.fell = true;
+            }
+            if !self.lift.fell && self.age() < u64::from(s.land_timeout) {
+                return Action::None;
+            }
+        }
         let m = s.land_blocks;
         let blocks = u64::from(m) * u64::from(s.block);
         if !self.stream.block_closed() || self.age() < blocks {

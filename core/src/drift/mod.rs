@@ -263,8 +263,10 @@ pub struct DriftSettings {
     /// The tilt test's sub-windows [blocks] and their largest gains above `knock_hz` (Q16).
     pub(crate) sub_blocks: [u32; 2],
     pub(crate) sub_gain_q16: [u64; 2],
-    /// The landing test's window [blocks] and the largest gain of a third of it (Q16).
+    /// The landing test's window [blocks] and the largest gain of a third of it (Q16); a
+    /// landing without a fall seen waits this long [ticks].
     pub(crate) land_blocks: u32,
+    pub(crate) land_timeout: u32,
     pub(crate) land_gain_q16: u64,
     /// A glide fades after this many quiet ticks; its velocity waits this many [ticks].
     pub(crate) fade_ticks: u32,
@@ -425,6 +427,7 @@ impl Drift {
             sub_blocks,
             sub_gain_q16: sub_blocks.map(|m| q16(window_gain(m * block))),
             land_blocks,
+            land_timeout: round(self.stroke_max_s / tick_s) as u32,
             land_gain_q16: q16(window_gain(land_blocks / 3 * block)),
             vib_velocity_q16: q16(vel),
             // 2 d (the lift test's units), peak to peak from an arbitrary start: 4x.
