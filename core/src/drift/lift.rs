@@ -36,9 +36,9 @@
 //! Lifted, nothing is integrated. A hand holds a lifted mouse still in the air as well as on
 //! the desk, so a landing must follow a fall: the vertical velocity, integrated from the lift
 //! window's start, turning against the rise by `K_LIFT` of its sd `sqrt(q n (1 + n / N_b))`
-//! (a fall is the rise's mirror image: as fast, as visible), or, for a set-down too gentle to
-//! be seen, the longest stroke's time since the lift. Then, once the last eighth of the
-//! longest stroke (0.25 s, in
+//! (a fall is the rise's mirror image: as fast, as visible) and then coming back within it
+//! (the fall is over), or, for a set-down too gentle to be seen, the longest stroke's time
+//! since the lift. Then, once the last eighth of the longest stroke (0.25 s, in
 //! blocks, [`super::tilt`]) is steady on every axis (its thirds agree within `K_TILT`
 //! sd plus the disturbance's allowance), the device rests: the zeros become that window's
 //! last third's means if any differs from the old zero by more than its noise allows (set
@@ -226,10 +226,11 @@ impl Detector {
             self.lift.vz_n += d;
             let var = self.noise[2].var(self.lift.vz_n, self.bias_samples);
             let down = -i64::from(self.lift.rise) * self.lift.vz;
-            if down > 0 && !within(down, var, l.k2_q8, 0) {
+            let still = within(self.lift.vz, var, l.k2_q8, 0);
+            if down > 0 && !still {
                 self.lift.fell = true;
             }
-            if !self.lift.fell && self.age() < u64::from(s.land_timeout) {
+            if !(self.lift.fell && still) && self.age() < u64::from(s.land_timeout) {
                 return Action::None;
             }
         }
