@@ -10,9 +10,9 @@
 //!   tapers to zero at its end); a hand's deceleration is not over while it fails;
 //! - **the velocity explained**: the integrated velocity `V` within `K_VELOCITY` of its own
 //!   sd, `sd(V)^2 = q n + q n^2 / N_b` (`n` samples since the onset, the zero averaged over
-//!   `N_b` samples; REFERENCE (i)), plus twice the velocity amplitude the disturbance
-//!   measured now could give (a vibration's velocity at the onset's arbitrary phase: `A fs /
-//!   (2 pi f D)` at `f >= knock_hz`).
+//!   `N_b` samples; REFERENCE (i)), plus the velocity amplitude the disturbance measured now
+//!   could give (`A fs / (2 pi f D)` at its frequency; a disturbed motion starts from the
+//!   disturbance's own velocity, [`super::rest`], so only its swing since remains).
 //!
 //! Mid-stroke the acceleration passes through zero while the hand moves fastest: the velocity
 //! keeps the motion going. A drag's glide has no acceleration at all, but its velocity is
@@ -116,10 +116,8 @@ impl Detector {
         let w = self.stream.window(k);
         let n = u64::from(k) * u64::from(s.tick);
         let allow = |a: usize| {
-            ((u128::from(s.quiet_gain_q16) * u128::from(self.disturbance[a].amp_q16)
-                * u128::from(k))
-                >> 16)
-                .min(u128::from(u64::MAX)) as u64
+            let d = &self.disturbance[a];
+            d.allow(d.gains(s).quiet_q16, u64::from(k))
         };
         explained_2d(
             [0, 1].map(|a| offset(w[a], n, bias[a])),
@@ -132,9 +130,8 @@ impl Detector {
     /// horizontal axes.
     pub(crate) fn velocity_explained(&self, s: &DriftSettings, velocity: [i64; 3]) -> bool {
         let allow = |a: usize| {
-            ((2 * u128::from(s.vib_velocity_q16) * u128::from(self.disturbance[a].amp_q16))
-                >> 16)
-                .min(u128::from(u64::MAX)) as u64
+            let d = &self.disturbance[a];
+            d.allow(d.gains(s).velocity_q16, 1)
         };
         explained_2d(
             [velocity[0] / 2, velocity[1] / 2],

@@ -196,9 +196,11 @@ impl Detector {
         let horizontal = (x.unsigned_abs() + y.unsigned_abs()).saturating_mul(u128::from(l.mount_q16)) >> 16;
         // A disturbance's velocity at the window's start carried over the window (its start is
         // not at rest when it starts inside a ring), plus its displacement: peak to peak.
-        let v = (u128::from(s.vib_velocity_q16) * u128::from(self.disturbance[2].amp_q16)) >> 16;
-        let allow = u128::from(s.vib_displacement)
-            .saturating_mul(u128::from(self.disturbance[2].amp_q16))
+        let dz = &self.disturbance[2];
+        let g = dz.gains(s);
+        let v = u128::from(dz.allow(g.velocity_q16, 1));
+        let allow = u128::from(g.displacement)
+            .saturating_mul(u128::from(dz.amp_q16))
             .saturating_add(v.saturating_mul(4 * n));
         let k = crate::math::isqrt_u128(u128::from(l.k2_q8) << 8); // K in Q8
         let bound = ((k * sd) >> 8)
@@ -251,10 +253,8 @@ impl Detector {
                 let n = ni.min(nj);
                 let di = crate::math::div_round(oi, ni as i64) * n as i64;
                 let dj = crate::math::div_round(oj, nj as i64) * n as i64;
-                let allow = ((u128::from(s.land_gain_q16)
-                    * u128::from(self.disturbance[a].amp_q16)
-                    * u128::from(n / u64::from(s.tick)))
-                    >> 16) as u64;
+                let dist = &self.disturbance[a];
+                let allow = dist.allow(dist.gains(s).land_q16, n / u64::from(s.tick));
                 within(di - dj, noise.var(2 * n, u64::MAX), K_LAND2_Q8, 2 * allow)
             };
             if !(steady(0, 1) && steady(1, 2)) {

@@ -256,29 +256,24 @@ pub struct DriftSettings {
     /// The hand-band filter's two boxcars [ticks] and its delay [ticks].
     pub(crate) band: [u32; 2],
     pub(crate) band_delay: u32,
-    /// Largest gain of the hand-band filter above `knock_hz` (Q16).
-    pub(crate) band_gain_q16: u64,
-    /// Largest gain of the quiet window above `knock_hz` (Q16).
-    pub(crate) quiet_gain_q16: u64,
-    /// The tilt test's sub-windows [blocks] and their largest gains above `knock_hz` (Q16).
+    /// The tilt test's sub-windows [blocks].
     pub(crate) sub_blocks: [u32; 2],
-    pub(crate) sub_gain_q16: [u64; 2],
-    /// The landing test's window [blocks] and the largest gain of a third of it (Q16); a
-    /// landing without a fall seen waits this long [ticks].
+    /// The landing test's window [blocks]; a landing without a fall seen waits this long
+    /// [ticks].
     pub(crate) land_blocks: u32,
     pub(crate) land_timeout: u32,
-    pub(crate) land_gain_q16: u64,
+    /// The disturbance's frequency bins: the residual's power ratio at each bin's lower
+    /// edge above the first (Q16), and each bin's gains.
+    pub(crate) bin_ratio_q16: [u64; noise::BINS - 1],
+    pub(crate) gains: [noise::Gains; noise::BINS],
+    /// Blocks before a disturbed motion's onset whose mean velocity is zero (its start).
+    pub(crate) pre_blocks: u32,
     /// A glide fades after this many quiet ticks; its velocity waits this many [ticks].
     pub(crate) fade_ticks: u32,
     pub(crate) glide_ticks: u32,
     /// The disturbance's average: `2^dist_shift` ticks; its margin over the noise (Q8).
     pub(crate) dist_shift: u32,
     pub(crate) dist_margin_q8: u64,
-    /// A disturbance's velocity amplitude per unit of its tick-sum amplitude (Q16).
-    pub(crate) vib_velocity_q16: u64,
-    /// A disturbance's displacement amplitude per unit of its tick-sum amplitude, in the
-    /// lift test's units (`2 d`, Q16 LSB samples^2 per Q16 LSB samples, Q0).
-    pub(crate) vib_displacement: u64,
     /// The slow CUSUM's alarm, the fast CUSUM's alarm [sd, Q8].
     pub(crate) alarm_q8: [u64; 2],
     /// Hold of a new motion [samples].
@@ -381,33 +376,48 @@ impl Drift {
         let fast = cusum_threshold(rest::KAPPA[1], arl) - 1.166;
         let arl_ticks = round(self.false_start_hours * 3600.0 / tick_s);
 
-        // Gains above knock_hz, up to Nyquist (ticks and windows average within a tick).
+        // Gains at and above each frequency bin of the disturbance, up to Nyquist (ticks and
+        // windows average within a tick): what a sinusoid of tick-sum amplitude A can do
+        // through each test (noise.rs).
         let nyq = fs / 2.0;
         let sample_box = |f: f64| boxcar(tick, f / fs);
-        let band_gain = max_over(self.knock_hz, nyq, |f| {
-            sample_box(f) * boxcar(l1, f / f_tick) * boxcar(l2, f / f_tick)
-        });
         let quiet_ticks = round(0.02 / tick_s).max(1) as u32;
-        let quiet_gain = max_over(self.knock_hz, nyq, |f| {
-            sample_box(f) * boxcar(quiet_ticks, f / f_tick)
-        });
-        let window_gain = |ticks: u32| {
-            max_over(self.knock_hz, nyq, |f| {
-                sample_box(f) * boxcar(ticks.max(1), f / f_tick)
-            })
+        let top = nyq.min(0.8 * f_tick).max(self.knock_hz);
+        let edge = |k: usize| {
+            let hi = (f_tick / 2.0).max(self.knock_hz);
+            self.knock_hz * libm::pow(hi / self.knock_hz, k as f64 / noise::BINS as f64)
         };
-        // A sinusoid of tick-sum amplitude A at f has a per-sample amplitude of at most
-        // A / (D |box(f)|), a velocity amplitude of that times fs / (2 pi f) and a
-        // displacement amplitude times (fs / 2 pi f)^2 (in samples). Up to 0.8 of the tick
-        // rate, where the tick's own boxcar keeps at least 0.23 of it.
-        let top = nyq.min(0.8 * f_tick);
         let tau = core::f64::consts::TAU;
-        let vel = max_over(self.knock_hz, top.max(self.knock_hz), |f| {
-            fs / (tau * f * f64::from(tick) * sample_box(f).max(1e-3))
+        let gains: [noise::Gains; noise::BINS] = core::array::from_fn(|k| {
+            let lo = edge(k);
+            let over = |g: &dyn Fn(f64) -> f64| max_over(lo, nyq.max(lo), g);
+            let window = |ticks: u32| over(&|f| sample_box(f) * boxcar(ticks.max(1), f / f_tick));
+            // A sinusoid of tick-sum amplitude A at f has a per-sample amplitude of at most
+            // A / (D |box(f)|), a velocity amplitude of that times fs / (2 pi f) and a
+            // displacement amplitude times (fs / 2 pi f)^2 (in samples); up to 0.8 of the tick
+            // rate, where the tick's own boxcar keeps at least 0.23 of it.
+            let vel = max_over(lo, top.max(lo), |f| {
+                fs / (tau * f * f64::from(tick) * sample_box(f).max(1e-3))
+            });
+            let disp = max_over(lo, top.max(lo), |f| {
+                let w = fs / (tau * f);
+                w * w / (f64::from(tick) * sample_box(f).max(1e-3))
+            });
+            noise::Gains {
+                band_q16: q16(over(&|f| {
+                    sample_box(f) * boxcar(l1, f / f_tick) * boxcar(l2, f / f_tick)
+                })),
+                quiet_q16: q16(window(quiet_ticks)),
+                sub_q16: sub_blocks.map(|m| q16(window(m * block))),
+                land_q16: q16(window(land_blocks / 3 * block)),
+                velocity_q16: q16(vel),
+                // 2 d (the lift test's units), peak to peak from an arbitrary start: 4x.
+                displacement: round(4.0 * disp),
+            }
         });
-        let disp = max_over(self.knock_hz, top.max(self.knock_hz), |f| {
-            let w = fs / (tau * f);
-            w * w / (f64::from(tick) * sample_box(f).max(1e-3))
+        let bin_ratio_q16 = core::array::from_fn(|k| {
+            let x = libm::sin(core::f64::consts::PI * edge(k + 1) / f_tick);
+            q16(4.0 * x * x)
         });
         // The disturbance's average over about 160 ms, and its margin: 3 relative sd of an
         // average of 2^k / 2 independent squares (noise.rs).
@@ -422,16 +432,12 @@ impl Drift {
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
             band_delay: (l1 + l2 - 2) / 2,
-            band_gain_q16: q16(band_gain),
-            quiet_gain_q16: q16(quiet_gain),
             sub_blocks,
-            sub_gain_q16: sub_blocks.map(|m| q16(window_gain(m * block))),
             land_blocks,
             land_timeout: round(self.stroke_max_s / tick_s) as u32,
-            land_gain_q16: q16(window_gain(land_blocks / 3 * block)),
-            vib_velocity_q16: q16(vel),
-            // 2 d (the lift test's units), peak to peak from an arbitrary start: 4x.
-            vib_displacement: round(4.0 * disp),
+            bin_ratio_q16,
+            gains,
+            pre_blocks: (libm::ceil(1.0 / self.knock_hz / block_s) as u32).max(2),
             alarm_q8: [round(slow * 256.0), round(fast * 256.0)],
             hold: round(self.hold_s * fs),
             quiet_ticks,

@@ -31,6 +31,17 @@
 //!
 //! A brisk stroke's own content near 10 Hz leaks into the residual (the filter passes 10 Hz
 //! at about 0.6): its disturbance is counted too, which only widens the tests while it lasts.
+//!
+//! # Its frequency
+//! What a sinusoid can fake depends on its frequency (a velocity amplitude of `A / (2 pi f)`
+//! per sample rate, a boxcar's gain falling as `1 / f`): sizing every allowance at `knock_hz`
+//! would make a machine at 85 Hz as blinding as a desk ringing at 20 Hz. The residual's first
+//! difference `rho[t] - rho[t-1]` has, for a sinusoid at `f` (seen at the tick rate `f_t`),
+//! `4 sin^2(pi f / f_t)` times its power: the ratio of the two excess powers (each above its
+//! noise expectation, the difference's discounted by its margin, so that noise makes the
+//! frequency look lower, never higher) places the disturbance in one of [`BINS`] bins,
+//! log-spaced from `knock_hz` to `f_t / 2`. Each bin's gains ([`Gains`]) are the largest at
+//! or above its lower edge (every alias above it included), computed at validation.
 
 use crate::calibration::Calibration;
 
@@ -44,6 +55,27 @@ pub const LEARN_BLOCKS: u64 = 128;
 /// The floor of a learnt variance [LSB^2 per sample, Q32]: a quarter LSB^2 (a noise-free
 /// sensor still flickers between two codes).
 const VAR_FLOOR: u64 = 1 << 30;
+
+/// Frequency bins of the disturbance.
+pub const BINS: usize = 6;
+
+/// What a sinusoid of tick-sum amplitude `A` at or above a bin's lower edge can do through
+/// each test, per unit of `A` (Q16 unless stated).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Gains {
+    /// Through the hand-band filter.
+    pub(crate) band_q16: u64,
+    /// Through the quiet test's window, per tick.
+    pub(crate) quiet_q16: u64,
+    /// Through the tilt test's sub-windows, per tick.
+    pub(crate) sub_q16: [u64; 2],
+    /// Through a third of the landing window, per tick.
+    pub(crate) land_q16: u64,
+    /// Its velocity amplitude [Q16 LSB samples per Q16 LSB samples of `A`].
+    pub(crate) velocity_q16: u64,
+    /// Its displacement amplitude in the lift test's units (`2 d`, peak to peak), Q0.
+    pub(crate) displacement: u64,
+}
 
 /// Per-axis noise in the detector's integer units.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -133,13 +165,30 @@ impl Learn {
 /// The disturbance on one axis, measured as it happens; see the module docs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Disturbance {
-    /// Exponential average of the squared residual [LSB^2 (L1 L2)^2].
-    power: u128,
-    /// Its noise-only expectation `E` [LSB^2 (L1 L2)^2, Q32].
-    expect_q32: u128,
+    /// Exponential averages of the squared residual and of its squared first difference
+    /// [LSB^2 (L1 L2)^2].
+    power: [u128; 2],
+    /// Their noise-only expectations [LSB^2 (L1 L2)^2, Q32].
+    expect_q32: [u128; 2],
+    /// The last residual.
+    last: i64,
     /// The amplitude `A` of a sinusoid that would explain the excess [Q16 LSB samples, per
     /// tick sum]; 0 while `P` is within its own noise of `E`.
     pub(crate) amp_q16: u64,
+    /// Its frequency bin, `0..BINS`.
+    pub(crate) bin: u8,
+}
+
+/// `Var(sum_i c_i s[t-i])` for tick sums with covariances `cov(lag)` (zero beyond lag 3).
+fn var_of_taps(c: &[i128], cov: impl Fn(usize) -> i128) -> i128 {
+    let n = c.len();
+    let mut e = 0i128;
+    for i in 0..n {
+        for j in i.saturating_sub(3)..(i + 4).min(n) {
+            e += c[i] * c[j] * cov(i.abs_diff(j));
+        }
+    }
+    e
 }
 
 impl Disturbance {
@@ -147,7 +196,8 @@ impl Disturbance {
     pub(crate) fn new(s: &DriftSettings, cal: &Calibration) -> Self {
         let [l1, l2] = s.band.map(|l| l as usize);
         let l = (l1 * l2) as i128;
-        // The residual's taps: minus the trapezoid, plus L1 L2 at the centre.
+        // The residual's taps: minus the trapezoid, plus L1 L2 at the centre; its first
+        // difference's, one longer.
         let taps = l1 + l2 - 1;
         let mut c = [0i128; super::RING];
         for i in 0..l1 {
@@ -156,6 +206,10 @@ impl Disturbance {
             }
         }
         c[s.band_delay as usize] += l;
+        let mut dc = [0i128; super::RING];
+        for k in 0..=taps {
+            dc[k] = c[k] - if k > 0 { c[k - 1] } else { 0 };
+        }
         let d = i128::from(s.tick);
         let cov = |lag: usize| -> i128 {
             match lag {
@@ -164,38 +218,63 @@ impl Disturbance {
                 _ => 0,
             }
         };
-        let mut e = 0i128;
-        for i in 0..taps {
-            for j in i.saturating_sub(3)..(i + 4).min(taps) {
-                e += c[i] * c[j] * cov(i.abs_diff(j));
-            }
-        }
-        let expect_q32 = e.max(0) as u128;
+        let expect_q32 = [
+            var_of_taps(&c[..taps], cov).max(0) as u128,
+            var_of_taps(&dc[..=taps], cov).max(0) as u128,
+        ];
         Self {
-            power: expect_q32 >> 32,
+            power: expect_q32.map(|e| e >> 32),
             expect_q32,
+            last: 0,
             amp_q16: 0,
+            bin: 0,
         }
+    }
+
+    /// The allowance of `gain` (Q16, per tick) over `ticks` ticks [Q16 LSB samples].
+    pub(crate) fn allow(&self, gain_q16: u64, ticks: u64) -> u64 {
+        ((u128::from(gain_q16) * u128::from(self.amp_q16) * u128::from(ticks)) >> 16)
+            .min(u128::from(u64::MAX)) as u64
+    }
+
+    /// This disturbance's gains.
+    pub(crate) fn gains<'a>(&self, s: &'a DriftSettings) -> &'a Gains {
+        &s.gains[usize::from(self.bin)]
     }
 
     /// Takes the tick just closed on `axis`.
     pub(crate) fn update(&mut self, s: &DriftSettings, stream: &TickStream, axis: usize) {
-        let r = stream.band_residual(s, axis).unsigned_abs();
-        let r2 = u128::from(r) * u128::from(r); // < 2^84
+        let r = stream.band_residual(s, axis);
+        let diff = r - core::mem::replace(&mut self.last, r);
         let k = s.dist_shift;
-        self.power = if r2 >= self.power {
-            self.power + ((r2 - self.power) >> k)
-        } else {
-            self.power - ((self.power - r2) >> k)
-        };
-        let p = self.power << 32;
-        let hi = self.expect_q32.saturating_mul(u128::from(s.dist_margin_q8)) >> 8;
-        self.amp_q16 = if p > hi {
-            let l = u128::from(s.band[0] * s.band[1]);
-            // sqrt(2 (P - E) 2^32) / (L1 L2): Q16 LSB per tick sum.
-            (crate::math::isqrt_u128(2 * (p - self.expect_q32)) / l) as u64
-        } else {
-            0
-        };
+        for (p, x) in self.power.iter_mut().zip([r, diff]) {
+            let x2 = u128::from(x.unsigned_abs()).pow(2); // < 2^86
+            *p = if x2 >= *p {
+                *p + ((x2 - *p) >> k)
+            } else {
+                *p - ((*p - x2) >> k)
+            };
+        }
+        let margin = |e: u128| e.saturating_mul(u128::from(s.dist_margin_q8)) >> 8;
+        let p = self.power.map(|p| p << 32);
+        if p[0] <= margin(self.expect_q32[0]) {
+            self.amp_q16 = 0;
+            self.bin = 0;
+            return;
+        }
+        let excess = p[0] - self.expect_q32[0];
+        let l = u128::from(s.band[0] * s.band[1]);
+        // sqrt(2 (P - E) 2^32) / (L1 L2): Q16 LSB per tick sum.
+        self.amp_q16 = (crate::math::isqrt_u128(2 * excess) / l) as u64;
+        // The frequency: the difference's excess (discounted by its margin) over the
+        // residual's, against each bin's edge.
+        let ratio_q16 = (p[1].saturating_sub(margin(self.expect_q32[1])) >> 16)
+            .checked_div(excess >> 32)
+            .unwrap_or(0);
+        self.bin = s
+            .bin_ratio_q16
+            .iter()
+            .take_while(|&&edge| ratio_q16 >= u128::from(edge))
+            .count() as u8;
     }
 }

@@ -95,7 +95,7 @@ impl Rest {
     fn limits(s: &DriftSettings, n: &Noise, d: &Disturbance) -> ([i64; 2], [i64; 2]) {
         let sd = n.sd_q16;
         let a = d.amp_q16 as i64;
-        let band = ((u128::from(s.band_gain_q16) * u128::from(d.amp_q16)) >> 16) as i64;
+        let band = d.allow(d.gains(s).band_q16, 1) as i64;
         let kappa = [
             ((KAPPA_Q8[0] * sd) >> 8) + band,
             ((KAPPA_Q8[1] * sd) >> 8) + a,
@@ -180,13 +180,18 @@ impl Detector {
                         r.peak[c][a][side] = r.peak[c][a][side].max(sum);
                     }
                     if sum > limit[c] {
-                        // The slow one's run began the filter's delay before it shows; no run
-                        // began before this rest.
-                        let on = self
-                            .rest
-                            .onset_of(c, a, side, sd, slack)
-                            .saturating_sub(if c == 0 { u64::from(s.band_delay) } else { 0 })
-                            .max(self.entered);
+                        // The slow one's run began the filter's delay before it shows (and a
+                        // disturbance's allowance delays the fast one's: the slow one's run,
+                        // if it has begun, is the earlier start); no run began before this
+                        // rest.
+                        let delay = u64::from(s.band_delay);
+                        let mut on = self.rest.onset_of(c, a, side, sd, slack);
+                        if c == 0 {
+                            on = on.saturating_sub(delay);
+                        } else if self.rest.cusum[0][a][side] > 0 {
+                            on = on.min(self.rest.onset[0][a][side].saturating_sub(delay));
+                        }
+                        let on = on.max(self.entered);
                         alarm = Some(alarm.map_or(on, |o: u64| o.min(on)));
                         step |= c == 1 && z - kappa[1] > limit[1];
                     }
@@ -242,6 +247,16 @@ impl Detector {
             .min(BLOCKS as u64 - 1)
             .min(done.saturating_sub(1));
         let latent = self.take_latent(s);
+        // A disturbed device's velocity at the onset is the disturbance's, not zero: the one
+        // whose integral over the rest before averages to zero (ticks.rs). Only from rest.
+        let disturbed = self.disturbance[..2].iter().any(|d| d.amp_q16 > 0);
+        let pre = u64::from(s.pre_blocks) * u64::from(s.block);
+        let from_rest = self.state == State::Still && self.age() >= (blocks + 1) * u64::from(s.block) + pre;
+        let shaking = if disturbed && from_rest {
+            self.stream.rest_velocity(blocks, s.pre_blocks, bias)
+        } else {
+            None
+        };
         self.enter(State::Moving);
         let samples = blocks * u64::from(s.block) * u64::from(s.tick)
             + u64::from(self.stream.samples_in_block());
@@ -251,7 +266,7 @@ impl Detector {
         self.count_runs(s, blocks, bias);
         Action::Start {
             blocks: blocks as usize,
-            carry: latent.map_or([0; 3], |(w, _)| w),
+            carry: latent.map_or(shaking.map_or([0; 3], |w| [w[0], w[1], 0]), |(w, _)| w),
         }
     }
 }

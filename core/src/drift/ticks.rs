@@ -68,6 +68,8 @@ pub struct TickStream {
     ticks: u64,
     blocks_done: u64,
     block_closed: bool,
+    /// Samples per block.
+    block_samples: u32,
 }
 
 impl TickStream {
@@ -103,6 +105,7 @@ impl TickStream {
             ticks: 0,
             blocks_done: 0,
             block_closed: false,
+            block_samples: s.block * s.tick,
         }
     }
 
@@ -259,6 +262,41 @@ impl TickStream {
         // The ring holds the last BLOCKS blocks: a replay of at most BLOCKS - 1 (the cap in
         // `start`) leaves its predecessor in it.
         (blocks < BLOCKS).then(|| self.blocks[(i % BLOCKS as u64) as usize].map(|t| t.last))
+    }
+}
+
+impl TickStream {
+    /// The velocity at the start of the last `back` complete blocks (`W = 2 V`, per axis,
+    /// relative to `bias`) of a device at rest over the `pre` blocks before them: the velocity
+    /// whose running integral over those blocks averages to zero. With `U(m)` the integral of
+    /// the offsets from the pre-window's start to its sample `m` (`n` samples),
+    /// `V = U(n) - mean U = A - B / n` from the merged block's sums `A = sum - n z` and
+    /// `B = prefixes - z n (n + 1) / 2`. `None` if those blocks are not in the ring.
+    pub(crate) fn rest_velocity(&self, back: u64, pre: u32, bias: [i64; 3]) -> Option<[i64; 3]> {
+        let oldest = back + u64::from(pre);
+        if oldest >= BLOCKS as u64 || oldest > self.blocks_done {
+            return None;
+        }
+        Some(core::array::from_fn(|a| {
+            let mut m = BlockSums::default();
+            for k in (back + 1..=oldest).rev() {
+                let t = self.blocks[((self.blocks_done - k) % BLOCKS as u64) as usize][a];
+                let b = BlockSums {
+                    n: self.block_samples,
+                    sum: t.sum,
+                    sum_of_prefixes: t.sum_of_prefixes,
+                    first: 0,
+                    last: t.last,
+                };
+                m = merge(&m, &b);
+            }
+            let n = i128::from(m.n);
+            let z = i128::from(bias[a]);
+            let a_sum = i128::from(m.sum) - n * z;
+            let b_sum = i128::from(m.sum_of_prefixes) - z * n * (n + 1) / 2;
+            let v = a_sum - b_sum / n.max(1);
+            (2 * v).clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64
+        }))
     }
 }
 

@@ -84,12 +84,8 @@ impl Detector {
         let m = s.sub_blocks[scale];
         let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
         let o = offset_q16(self.stream.blocks_sum(axis, back + 1, back + m + 1), n, bias);
-        let ticks = n / u64::from(s.tick);
-        let allow = ((u128::from(s.sub_gain_q16[scale])
-            * u128::from(self.disturbance[axis].amp_q16)
-            * u128::from(ticks))
-            >> 16)
-            .min(u128::from(u64::MAX)) as u64;
+        let d = &self.disturbance[axis];
+        let allow = d.allow(d.gains(s).sub_q16[scale], n / u64::from(s.tick));
         let var = self.noise[axis].var(n, self.bias_samples);
         if within(o, var, K_TILT2_Q8, allow) {
             0
