@@ -173,6 +173,12 @@ impl Axis {
         self.integrator.zero_velocity();
     }
 
+    /// Replaces the integrator's state (a motion integrated elsewhere, against this axis's
+    /// new zero); bias, filter and read-out are kept.
+    pub fn set_integrator(&mut self, state: IntegratorState) {
+        self.integrator = state;
+    }
+
     /// Sets the velocity (`W = 2 V`, Q16 counts times samples) at the start of a motion
     /// that carries one on; position, bias and filter are kept.
     pub fn set_velocity(&mut self, w: i64) {

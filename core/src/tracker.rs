@@ -26,6 +26,7 @@ use crate::axis::Axis;
 use crate::calibration::{Calibration, CalibrationError, Calibrator};
 use crate::config::{Config, ConfigError, Settings};
 use crate::drift::{Action, Detector, State};
+use crate::integrator::IntegratorState;
 use crate::AdcCode;
 
 /// Number of axes the tracker integrates (X, Y, Z in the ADC's scan order).
@@ -88,6 +89,14 @@ fn integrate_all(axes: &mut [Axis; AXES], s: &Settings, y: [i64; AXES]) {
     }
 }
 
+/// A second motion integrated beside the axes' while drift control weighs whether a tilt
+/// ended ([`Action::Shadow`]): its zeros (Q16 counts) and its integrators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Shadow {
+    bias: [i64; AXES],
+    states: [IntegratorState; AXES],
+}
+
 /// Calibration and tracking of one device.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tracker {
@@ -97,6 +106,7 @@ pub struct Tracker {
     calibrators: [Calibrator; AXES],
     counters: Counters,
     detector: Option<Detector>,
+    shadow: Option<Shadow>,
 }
 
 impl Tracker {
@@ -113,6 +123,7 @@ impl Tracker {
             calibrators: [settings.calibrator(); AXES],
             counters: Counters::default(),
             detector: None,
+            shadow: None,
         })
     }
 
@@ -134,6 +145,7 @@ impl Tracker {
     pub fn recalibrate(&mut self) {
         self.phase = Phase::Calibrating;
         self.detector = None;
+        self.shadow = None;
         self.calibrators = [self.settings.calibrator(); AXES];
         for axis in &mut self.axes {
             axis.stop();
@@ -227,6 +239,7 @@ impl Tracker {
             axes,
             detector,
             counters,
+            shadow,
             ..
         } = self;
         let y: [i64; AXES] = core::array::from_fn(|a| axes[a].filter(s, AdcCode(codes[a])));
@@ -235,14 +248,24 @@ impl Tracker {
             return;
         };
         match det.state() {
-            State::Moving => integrate_all(axes, s, y),
+            State::Moving => {
+                integrate_all(axes, s, y);
+                if let Some(sh) = shadow {
+                    for ((st, b), y) in sh.states.iter_mut().zip(sh.bias).zip(y) {
+                        s.scheme().step(st, y - b);
+                    }
+                }
+            }
             State::Still => counters.still_samples += 1,
             State::Frozen => counters.frozen_samples += 1,
             State::Lifted => {}
         }
         let bias = axes.each_ref().map(Axis::bias_q16);
         let velocity = axes.each_ref().map(|a| a.integrator().velocity());
-        let action = det.push(ds, codes, y, bias, velocity);
+        let shadow_velocity = shadow
+            .as_ref()
+            .map(|sh| sh.states.each_ref().map(IntegratorState::velocity));
+        let action = det.push(ds, codes, y, bias, velocity, shadow_velocity);
         if det.state() == State::Lifted && matches!(action, Action::Stop | Action::Discard) {
             counters.lifts += 1;
         }
@@ -253,27 +276,55 @@ impl Tracker {
 
     /// Carries out a drift-control decision on the axes.
     fn apply(&mut self, action: Action) {
-        let s = &self.settings;
+        // Every decision but the shadow's own ends a shadow.
+        let shadow = match action {
+            Action::Shadow { .. } | Action::Adopt { .. } => self.shadow,
+            _ => self.shadow.take(),
+        };
         match action {
             Action::None => {}
+            Action::Shadow { bias, blocks } => {
+                let mut sh = Shadow {
+                    bias,
+                    states: [IntegratorState::default(); AXES],
+                };
+                if let (Some(det), Some(ds)) = (&self.detector, self.settings.drift()) {
+                    let scheme = self.settings.scheme();
+                    if let Some(prev) = det.replay_prev(blocks) {
+                        for ((st, b), y) in sh.states.iter_mut().zip(bias).zip(prev) {
+                            st.prime(y - b);
+                        }
+                    }
+                    for sums in det.replay(ds, blocks) {
+                        for ((st, b), sums) in sh.states.iter_mut().zip(bias).zip(&sums) {
+                            scheme.step_block(st, sums, b);
+                        }
+                    }
+                }
+                self.shadow = Some(sh);
+            }
+            Action::Adopt { stop } => {
+                if let Some(sh) = shadow {
+                    self.counters.rebiases += 1;
+                    self.counters.discarded += 1;
+                    for ((axis, b), st) in self.axes.iter_mut().zip(sh.bias).zip(sh.states) {
+                        axis.track_bias_q16(b);
+                        axis.set_integrator(st);
+                        if stop {
+                            axis.zero_velocity();
+                        }
+                    }
+                }
+                self.shadow = None;
+            }
             Action::Start { blocks, carry } => {
                 self.counters.motions += 1;
                 for (axis, w) in self.axes.iter_mut().zip(carry) {
                     axis.set_velocity(w);
                 }
-                if let (Some(det), Some(ds)) = (&self.detector, s.drift()) {
-                    if let Some(prev) = det.replay_prev(blocks) {
-                        for (axis, y) in self.axes.iter_mut().zip(prev) {
-                            axis.prime(y);
-                        }
-                    }
-                    for sums in det.replay(ds, blocks) {
-                        for (axis, b) in self.axes.iter_mut().zip(&sums) {
-                            axis.integrate_block(s, b);
-                        }
-                    }
-                }
+                self.replay(blocks);
             }
+
             Action::Stop => self.axes.iter_mut().for_each(Axis::zero_velocity),
             Action::Discard => {
                 self.counters.discarded += 1;
@@ -293,6 +344,24 @@ impl Tracker {
             Action::TrackBias(b) => {
                 for (axis, b) in self.axes.iter_mut().zip(b) {
                     axis.track_bias_q16(b);
+                }
+            }
+        }
+    }
+
+    /// Integrates a new motion's onset: the detector's last `blocks` blocks and the current
+    /// block so far, the trapezoid primed on the sample before them.
+    fn replay(&mut self, blocks: usize) {
+        let s = &self.settings;
+        if let (Some(det), Some(ds)) = (&self.detector, s.drift()) {
+            if let Some(prev) = det.replay_prev(blocks) {
+                for (axis, y) in self.axes.iter_mut().zip(prev) {
+                    axis.prime(y);
+                }
+            }
+            for sums in det.replay(ds, blocks) {
+                for (axis, b) in self.axes.iter_mut().zip(&sums) {
+                    axis.integrate_block(s, b);
                 }
             }
         }

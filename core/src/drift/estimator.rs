@@ -110,7 +110,7 @@ fn explained_2d(d: [i64; 2], var: [u128; 2], allow: [u64; 2]) -> bool {
 }
 
 impl Detector {
-    /// Whether the last 20 ms are quiet on the horizontal axes.
+    /// Whether the last 20 ms are quiet on the horizontal axes against the zeros `bias`.
     pub(crate) fn quiet(&self, s: &DriftSettings, bias: [i64; 3]) -> bool {
         let k = s.quiet_ticks;
         let w = self.stream.window(k);
@@ -126,16 +126,22 @@ impl Detector {
         )
     }
 
-    /// Whether the velocities `W = 2 V` are explained by their uncertainty on the
-    /// horizontal axes.
-    pub(crate) fn velocity_explained(&self, s: &DriftSettings, velocity: [i64; 3]) -> bool {
+    /// Whether the velocities `W = 2 V` of a motion of `n` samples, its zero averaged over
+    /// `nb` samples, are explained by their uncertainty on the horizontal axes.
+    pub(crate) fn velocity_explained(
+        &self,
+        s: &DriftSettings,
+        velocity: [i64; 3],
+        n: u64,
+        nb: u64,
+    ) -> bool {
         let allow = |a: usize| {
             let d = &self.disturbance[a];
             d.allow(d.gains(s).velocity_q16, 1)
         };
         explained_2d(
             [velocity[0] / 2, velocity[1] / 2],
-            [0, 1].map(|a| self.noise[a].var(self.motion.samples, self.bias_samples)),
+            [0, 1].map(|a| self.noise[a].var(n, nb)),
             [allow(0), allow(1)],
         )
     }
@@ -149,16 +155,27 @@ impl Detector {
             .then(|| ([l.w[0], l.w[1], 0], l.samples + since * u64::from(s.tick)))
     }
 
-    /// Decisions while moving at a tick's end: the stop, then the tilt tests.
+    /// Decisions while moving at a tick's end: the stop, a tilt's shadow, then the tilt
+    /// tests.
     pub(crate) fn moving_tick(
         &mut self,
         s: &DriftSettings,
         bias: [i64; 3],
         velocity: [i64; 3],
+        shadow: Option<[i64; 3]>,
     ) -> Action {
         let quiet = self.quiet(s, bias);
         self.motion.quiet_run = if quiet { self.motion.quiet_run + 1 } else { 0 };
-        if quiet && self.velocity_explained(s, velocity) {
+        let explained =
+            self.velocity_explained(s, velocity, self.motion.samples, self.bias_samples);
+        // A tilt's shadow: the end that comes first decides, one the data tell from the other
+        // ([`super::tilt`]).
+        if let Some(w) = shadow {
+            if let Some(action) = self.shadow_decision(s, w, quiet, explained) {
+                return action;
+            }
+        }
+        if quiet && explained {
             // A motion that ends younger than its hold was a jolt, not a stroke; a tilt
             // suspicion that ends in a stop was refuted: deliver.
             let held = self.click.hold_left > 0;

@@ -36,11 +36,12 @@
 //! Lifted, nothing is integrated. A hand holds a lifted mouse still in the air as well as on
 //! the desk, so a landing must follow a fall: the vertical velocity, integrated from the lift
 //! window's start, turning against the rise by `K_LIFT` of its sd `sqrt(q n (1 + n / N_b))`
-//! (a fall is the rise's mirror image: as fast, as visible) and then coming back within it
-//! (the fall is over), or, for a set-down too gentle to be seen, the longest stroke's time
-//! since the lift. Then, once the last eighth of the longest stroke (0.25 s, in
+//! (a fall is the rise's mirror image: as fast, as visible), or, for a set-down too gentle to
+//! be seen, the longest stroke's time since the lift. Then, once the last eighth of the
+//! longest stroke (0.25 s, in
 //! blocks, [`super::tilt`]) is steady on every axis (its thirds agree within `K_TILT`
-//! sd plus the disturbance's allowance), the device rests: the zeros become that window's
+//! sd plus the allowance of the disturbance the desk had when it was lifted: the fall's own
+//! motion would inflate the disturbance measured now), the device rests: the zeros become that window's
 //! last third's means if any differs from the old zero by more than its noise allows (set
 //! down on a slope), and stay otherwise. The lift test then waits `W` ticks, until its
 //! window holds only ticks at the new zero.
@@ -108,6 +109,9 @@ pub struct Lift {
     fell: bool,
     vz: i64,
     vz_n: u64,
+    /// The disturbance on each axis when it was lifted [Q16 LSB samples per tick sum]: the
+    /// desk's, which the landing allows for (the fall's own motion would inflate it now).
+    desk: [u64; 3],
     /// Ticks before the window holds only ticks at the current zeros.
     wait: u32,
 }
@@ -177,6 +181,7 @@ impl Detector {
             let n = u64::from(l.window) * u64::from(s.tick);
             self.lift.vz = super::ticks::offset(self.lift.r0[2], n, bias[2]);
             self.lift.vz_n = n;
+            self.lift.desk = core::array::from_fn(|a| self.disturbance[a].amp_q16);
         }
         up
     }
@@ -228,11 +233,10 @@ impl Detector {
             self.lift.vz_n += d;
             let var = self.noise[2].var(self.lift.vz_n, self.bias_samples);
             let down = -i64::from(self.lift.rise) * self.lift.vz;
-            let still = within(self.lift.vz, var, l.k2_q8, 0);
-            if down > 0 && !still {
+            if down > 0 && !within(down, var, l.k2_q8, 0) {
                 self.lift.fell = true;
             }
-            if !(self.lift.fell && still) && self.age() < u64::from(s.land_timeout) {
+            if !self.lift.fell && self.age() < u64::from(s.land_timeout) {
                 return Action::None;
             }
         }
@@ -253,8 +257,8 @@ impl Detector {
                 let n = ni.min(nj);
                 let di = crate::math::div_round(oi, ni as i64) * n as i64;
                 let dj = crate::math::div_round(oj, nj as i64) * n as i64;
-                let dist = &self.disturbance[a];
-                let allow = dist.allow(dist.gains(s).land_q16, n / u64::from(s.tick));
+                let desk = self.disturbance[a].with_amplitude(self.lift.desk[a]);
+                let allow = desk.allow(desk.gains(s).land_q16, n / u64::from(s.tick));
                 within(di - dj, noise.var(2 * n, u64::MAX), K_LAND2_Q8, 2 * allow)
             };
             if !(steady(0, 1) && steady(1, 2)) {

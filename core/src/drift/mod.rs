@@ -517,6 +517,23 @@ pub enum Action {
     },
     /// New zeros (Q16 counts) from tracking at rest; nothing else changes.
     TrackBias([i64; 3]),
+    /// The held acceleration changed from a level that may have been a tilt's: integrate,
+    /// beside the motion, its shadow, the hypothesis that a tilt to zeros `bias` (Q16 counts)
+    /// ended and a new motion began: from zero velocity over the last `blocks` complete blocks
+    /// and the current block so far, then every sample, against `bias` ([`tilt`]).
+    Shadow {
+        /// The tilt's zeros [Q16 counts].
+        bias: [i64; 3],
+        /// Complete blocks to replay, `0..BLOCKS`.
+        blocks: usize,
+    },
+    /// The shadow won: its zeros and its motion replace the axes' (the held motion, the
+    /// tilt's runaway, is dropped); with `stop`, at zero velocity. Any other action ends a
+    /// shadow.
+    Adopt {
+        /// The device is at rest: zero velocity.
+        stop: bool,
+    },
 }
 
 /// Drift-control state of a three-axis device (X, Y horizontal, Z vertical); see the module
@@ -589,7 +606,8 @@ impl Detector {
 
     /// Adds one sample: its raw `codes`, its integrated values `y` (Q16 counts), the axes'
     /// zeros (Q16 counts) and velocities (`W = 2 V`, [`crate::IntegratorState::velocity`])
-    /// after it was integrated (if it was). Returns what the tracker must do.
+    /// after it was integrated (if it was), and the shadow's velocities if there is one
+    /// ([`Action::Shadow`]). Returns what the tracker must do.
     pub fn push(
         &mut self,
         s: &DriftSettings,
@@ -597,10 +615,14 @@ impl Detector {
         y: [i64; 3],
         bias: [i64; 3],
         velocity: [i64; 3],
+        shadow: Option<[i64; 3]>,
     ) -> Action {
         self.stream.push(codes, y);
         match self.state {
-            State::Moving => self.motion.sample(&mut self.click),
+            State::Moving => {
+                self.motion.sample(&mut self.click);
+                self.shadow_sample();
+            }
             State::Frozen => {
                 if self.click.frozen_sample() {
                     self.enter_still();
@@ -621,14 +643,20 @@ impl Detector {
         if let Some(l) = s.lift {
             self.lift.update(&l, &self.stream);
         }
-        let action = self.tick(s, bias, velocity);
+        let action = self.tick(s, bias, velocity, shadow);
         self.rest
             .refresh_headroom(s, &self.noise, &self.disturbance, self.state);
         action
     }
 
     /// Decisions at the end of a tick.
-    fn tick(&mut self, s: &DriftSettings, bias: [i64; 3], velocity: [i64; 3]) -> Action {
+    fn tick(
+        &mut self,
+        s: &DriftSettings,
+        bias: [i64; 3],
+        velocity: [i64; 3],
+        shadow: Option<[i64; 3]>,
+    ) -> Action {
         if matches!(self.state, State::Still | State::Moving) && self.lifted(s, bias) {
             let held = self.holds();
             self.enter(State::Lifted);
@@ -636,7 +664,7 @@ impl Detector {
         }
         match self.state {
             State::Still => self.still_tick(s, bias),
-            State::Moving => self.moving_tick(s, bias, velocity),
+            State::Moving => self.moving_tick(s, bias, velocity, shadow),
             State::Lifted => self.lifted_tick(s, bias),
             State::Frozen => Action::None,
         }

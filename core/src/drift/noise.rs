@@ -237,6 +237,11 @@ impl Disturbance {
             .min(u128::from(u64::MAX)) as u64
     }
 
+    /// This disturbance with another amplitude (at its frequency).
+    pub(crate) fn with_amplitude(&self, amp_q16: u64) -> Self {
+        Self { amp_q16, ..*self }
+    }
+
     /// This disturbance's gains.
     pub(crate) fn gains<'a>(&self, s: &'a DriftSettings) -> &'a Gains {
         &s.gains[usize::from(self.bin)]

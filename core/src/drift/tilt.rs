@@ -32,7 +32,19 @@
 //!   longer than `T_max / 4` is held during part of each lobe (its cursor pauses, then
 //!   catches up).
 //! - **Release**: held, and no axis one-sided for `T_max / 8` at either scale (the acceleration
-//!   reversed or went quiet, as a hand's does): what was held is delivered.
+//!   reversed or went quiet, as a hand's does): what was held is delivered. Unless the level
+//!   before the change (the three short sub-windows before the last) was significant on X or
+//!   Y: then the change may be a stroke's second lobe (the hold was a slow stroke's first) or
+//!   a new motion after a tilt to that level (the hold was a pad tilting, then the hand
+//!   moved). No statistic tells them apart as they happen (REFERENCE (j)); their ends do: at
+//!   rest the acceleration returns to the old zero after a stroke, to the tilt's level after a
+//!   tilt. So the motion stays held, and its **shadow**, the second hypothesis, is integrated
+//!   beside it from the last sub-window on, from zero velocity against that level
+//!   ([`super::Action::Shadow`]). Whichever stop test passes first (quiet and velocity
+//!   explained, each against its own zero) wins: the motion is delivered as it is, or the
+//!   shadow replaces it ([`super::Action::Adopt`]: the tilt's runaway dropped, the level the
+//!   new zero). If neither has within the longest stroke, the tilt hypothesis wins while the
+//!   acceleration is still one-sided, the motion's otherwise.
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
 //!   stroke is that long.
 //!   The held motion is dropped and the zeros become the means of the longest sub-window
@@ -68,6 +80,9 @@ pub struct Tilt {
     run: [[(i8, u32); 2]; 2],
     /// Whether the motion is held.
     held: bool,
+    /// While a shadow runs: the tilt's zeros [Q16 counts], the samples the shadow has
+    /// integrated, and the tick it began.
+    shadow: Option<([i64; 3], u64, u64)>,
 }
 
 impl Tilt {
@@ -162,8 +177,98 @@ impl Detector {
                 discard: true,
             };
         }
-        self.tilt.held = sided.iter().any(|&b| b >= hold);
+        let held = sided.iter().any(|&b| b >= hold);
+        if self.tilt.shadow.is_some() {
+            return Action::None; // held until an end decides
+        }
+        if self.tilt.held && !held {
+            if let Some(level) = self.level_before_change(s, bias) {
+                let m = u64::from(s.sub_blocks[0]);
+                let blocks = m.min(self.stream.blocks().saturating_sub(1));
+                let samples = blocks * u64::from(s.block) * u64::from(s.tick)
+                    + u64::from(self.stream.samples_in_block());
+                self.tilt.shadow = Some((level, samples, self.stream.ticks()));
+                return Action::Shadow {
+                    bias: level,
+                    blocks: blocks as usize,
+                };
+            }
+        }
+        self.tilt.held = held;
         Action::None
+    }
+
+    /// One more sample integrated by the shadow.
+    #[inline(always)]
+    pub(crate) fn shadow_sample(&mut self) {
+        if let Some((_, n, _)) = &mut self.tilt.shadow {
+            *n += 1;
+        }
+    }
+
+    /// At a release: the level of the three short sub-windows before the last (Q16 counts,
+    /// every axis), if it is significant on X or Y.
+    fn level_before_change(&self, s: &DriftSettings, bias: [i64; 3]) -> Option<[i64; 3]> {
+        let m = s.sub_blocks[0];
+        let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
+        if 4 * m as usize >= super::BLOCKS || self.motion.samples < 4 * n {
+            return None;
+        }
+        let mut level = bias;
+        let mut significant = false;
+        for (a, b) in bias.iter().enumerate() {
+            let sum = offset_q16(self.stream.blocks_sum(a, m + 1, 4 * m + 1), 3 * n, *b);
+            if a < 2 {
+                let d = &self.disturbance[a];
+                let allow = d.allow(d.gains(s).sub_q16[0], 3 * n / u64::from(s.tick));
+                let var = self.noise[a].var(3 * n, self.bias_samples);
+                significant |= !within(sum, var, K_TILT2_Q8, allow);
+            }
+            level[a] = *b + crate::math::div_round(sum, 3 * n as i64);
+        }
+        significant.then_some(level)
+    }
+
+    /// While a shadow runs: which end has come (`quiet` and `explained` are the motion's own
+    /// stop test's halves, the shadow's are tested here on its zeros and velocities `w`);
+    /// `None` to go on (the motion's stop, if it alone passes, is the caller's). While both
+    /// quiet tests pass the data cannot tell the hypotheses apart: it waits. After the longest
+    /// stroke: see the module docs.
+    pub(crate) fn shadow_decision(
+        &mut self,
+        s: &DriftSettings,
+        w: [i64; 3],
+        quiet: bool,
+        explained: bool,
+    ) -> Option<Action> {
+        let (level, n, since) = self.tilt.shadow?;
+        let nb = 3 * u64::from(s.sub_blocks[0]) * u64::from(s.block) * u64::from(s.tick);
+        let shadow_quiet = self.quiet(s, level);
+        if shadow_quiet && quiet {
+            return Some(Action::None);
+        }
+        if shadow_quiet && self.velocity_explained(s, w, n, nb) {
+            self.enter_still();
+            self.lift_wait(s);
+            self.bias_samples = nb;
+            return Some(Action::Adopt { stop: true });
+        }
+        if quiet && explained {
+            return None;
+        }
+        if self.stream.ticks() - since < u64::from(s.land_timeout) {
+            return None;
+        }
+        self.tilt.shadow = None;
+        let sided = self.one_sided_blocks(s);
+        if sided.iter().any(|&b| b >= s.tilt_blocks[0]) {
+            self.motion.begin(n);
+            self.bias_samples = nb;
+            self.tilt.held = false;
+            return Some(Action::Adopt { stop: false });
+        }
+        self.tilt.held = false;
+        None
     }
 
     /// At rest: learn the noise and follow the zero from the tick [`REPLAY`] ticks old, once

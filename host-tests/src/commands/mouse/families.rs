@@ -863,9 +863,29 @@ fn rests(spec: SensorSpec, base: Config, devices: usize, minutes: f64, seed: u64
     }
 }
 
-/// A trace of trial `k` of `kind`: every change of drift control's state, with the cursor.
-pub fn trace(kind: Kind, drift: Option<Drift>, seed: u64, k: usize) -> String {
-    let dev = board_device(drift, seed);
+/// A trace of trial `k` of `kind` on a device of `spec`: every change of drift control's
+/// state, with the cursor. The board's sensor gives the family run's device; another gives
+/// the device of that rate's or sensor's sweep.
+pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: usize) -> String {
+    let base = Config {
+        drift,
+        ..Config::default()
+    };
+    let b = SensorSpec::ADXL335;
+    let (dev, seed) = if spec == b {
+        (board_device(drift, seed), seed)
+    } else if spec.nd_ug == b.nd_ug && spec.bits == b.bits {
+        let fs = spec.fs as u32;
+        (
+            Device::calibrated(spec, base, seed ^ u64::from(fs)),
+            seed ^ u64::from(fs),
+        )
+    } else {
+        (
+            Device::calibrated(spec, base, seed ^ (spec.nd_ug as u64) ^ u64::from(spec.bits)),
+            seed ^ 13,
+        )
+    };
     let mut rng = kind.rng(seed, k);
     let case = kind.case(&mut rng, averaging_s(drift));
     let mut out = format!("{case:?}\n");

@@ -20,6 +20,7 @@ use imu_core::{Config, Drift, Tracker};
 use serde::Serialize;
 
 use crate::stats::{spread, Spread};
+use crate::world::hand::SensorSpec;
 use crate::world::desk::{Plan, Sensor, FS};
 use crate::world::noise;
 
@@ -357,6 +358,15 @@ pub struct Args {
     /// control's state, with the cursor and the velocity.
     #[arg(long, value_name = "FAMILY:K")]
     pub trace: Option<String>,
+    /// The traced device's sampling rate [Hz] (the board's sensor otherwise).
+    #[arg(long, requires = "trace")]
+    pub fs: Option<u32>,
+    /// The traced device's noise density [ug/sqrt(Hz)].
+    #[arg(long, requires = "trace")]
+    pub noise_ug: Option<f64>,
+    /// The traced device's ADC resolution [bits].
+    #[arg(long, requires = "trace")]
+    pub bits: Option<u8>,
 }
 
 /// Runs `cargo lab mouse`: the desk scenes, then the pointing scenes.
@@ -376,7 +386,14 @@ pub fn run(a: &Args) -> super::Outcome {
         let (name, k) = t.split_once(':').ok_or_else(bad)?;
         let kind = families::Kind::from_name(name).ok_or_else(bad)?;
         let k: usize = k.parse().map_err(|_| bad())?;
-        return Ok(families::trace(kind, Some(Drift::default()), a.seed, k));
+        let d = SensorSpec::ADXL335;
+        let spec = SensorSpec {
+            fs: a.fs.map_or(d.fs, f64::from),
+            nd_ug: a.noise_ug.unwrap_or(d.nd_ug),
+            bits: a.bits.unwrap_or(d.bits),
+            ..d
+        };
+        return Ok(families::trace(kind, Some(Drift::default()), spec, a.seed, k));
     }
     if a.families {
         let z = if a.quick {
