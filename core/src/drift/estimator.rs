@@ -171,7 +171,7 @@ impl Detector {
         // A tilt's shadow: the end that comes first decides, one the data tell from the other
         // ([`super::tilt`]).
         if let Some(w) = shadow {
-            if let Some(action) = self.shadow_decision(s, w, quiet, explained) {
+            if let Some(action) = self.shadow_decision(s, bias, w, quiet, explained) {
                 return action;
             }
         }

@@ -555,6 +555,8 @@ pub struct Detector {
     pub(crate) entered: u64,
     /// Samples the current zero is averaged over.
     pub(crate) bias_samples: u64,
+    /// A motion starting before this tick follows a tilt's new zero ([`tilt`]).
+    pub(crate) tilted_until: u64,
 }
 
 impl Detector {
@@ -578,6 +580,7 @@ impl Detector {
             state: State::Still,
             entered: 0,
             bias_samples: u64::from(cal[0].samples),
+            tilted_until: 0,
         };
         if let Some(l) = s.lift {
             d.lift.refill(&l, &d.stream);

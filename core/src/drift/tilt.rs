@@ -46,13 +46,24 @@
 //!   new zero). If neither has within the longest stroke, the tilt hypothesis wins while the
 //!   acceleration is still one-sided, the motion's otherwise.
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
-//!   stroke is that long.
-//!   The held motion is dropped and the zeros become the means of the longest sub-window
-//!   that is one-sided (on every axis: Z moves by `g (1 - cos theta)`); Still. A pad still
-//!   tilting goes on as a new motion, held again.
+//!   stroke is that long. The held motion is dropped and the zeros become the level of the
+//!   latest steady stretch (three short sub-windows in a row that agree on every axis within
+//!   `K_TILT` sd, the disturbance allowed for; on every axis, since Z moves by `g (1 - cos
+//!   theta)`): if that stretch is the last, Still; if something changed after it (a hand
+//!   moved the tilted device), the change goes on as the shadow, which now wins at its end
+//!   whatever the motion does. With no steady stretch (the pad still tilting) the zeros
+//!   become the last sub-window's means, Still, and the rest of the tilt is a new motion,
+//!   held again.
 //!
 //! At a start the runs are counted back over the motion's replayed blocks, so that a motion
 //! found late (a slow tilt) is judged from its onset.
+//!
+//! A tilt's new zero comes from at most a few hundred milliseconds of it, and a pad may go on
+//! settling: what is left of the tilt starts a motion soon after, too small for the tests to
+//! hold quickly. So a motion that starts within the longest stroke after a tilt's new zero
+//! is held from its start until its acceleration reverses on an axis (a short sub-window
+//! significant with the other sign than the first one seen): a hand's does within its
+//! stroke, a tilt's remainder never does (it is then confirmed, as any tilt).
 //!
 //! `K_TILT = 3`: a sub-window of a tilt falls short with probability 0.13 % (the hold is
 //! then released, and taken again a sub-window later).
@@ -81,8 +92,12 @@ pub struct Tilt {
     /// Whether the motion is held.
     held: bool,
     /// While a shadow runs: the tilt's zeros [Q16 counts], the samples the shadow has
-    /// integrated, and the tick it began.
-    shadow: Option<([i64; 3], u64, u64)>,
+    /// integrated, the tick it began, and whether the tilt is certain.
+    shadow: Option<([i64; 3], u64, u64, bool)>,
+    /// A motion soon after a tilt's new zero: held until it reverses; the first significant
+    /// sign seen on each horizontal axis.
+    wary: bool,
+    first: [i8; 2],
 }
 
 impl Tilt {
@@ -112,6 +127,12 @@ impl Detector {
     /// The runs at a motion's start: counted back over its replayed blocks (`blocks` whole
     /// blocks since its onset).
     pub(crate) fn count_runs(&mut self, s: &DriftSettings, blocks: u64, bias: [i64; 3]) {
+        let wary = self.stream.ticks() < self.tilted_until;
+        self.tilt = Tilt {
+            wary,
+            held: wary,
+            ..Tilt::default()
+        };
         for scale in 0..2 {
             let m = u64::from(s.sub_blocks[scale]);
             for a in 0..2 {
@@ -130,7 +151,6 @@ impl Detector {
                 self.tilt.run[scale][a] = run;
             }
         }
-        self.tilt.held = false;
     }
 
     /// Per scale, the least time the acceleration has kept its sign on a horizontal axis
@@ -150,6 +170,14 @@ impl Detector {
         for scale in 0..2 {
             for a in 0..2 {
                 let sign = self.sub_sign(s, scale, a, 0, bias[a]);
+                if scale == 0 && sign != 0 {
+                    let first = &mut self.tilt.first[a];
+                    if *first == 0 {
+                        *first = sign;
+                    } else if sign == -*first {
+                        self.tilt.wary = false; // it reversed: a hand's
+                    }
+                }
                 let run = &mut self.tilt.run[scale][a];
                 *run = match sign {
                     0 => (0, 0),
@@ -161,8 +189,25 @@ impl Detector {
         let hold = s.tilt_blocks[0];
         let sided = self.one_sided_blocks(s);
         let confirmed = (0..2).rev().find(|&scale| sided[scale] > s.tilt_blocks[1]);
-        if let Some(scale) = confirmed {
-            // A tilt: the zeros become the sub-window's means; the runaway goes.
+        if let (Some(scale), None) = (confirmed, self.tilt.shadow) {
+            let m = s.sub_blocks[0];
+            let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
+            match self.steady_level(s, bias) {
+                // Steady at the end: the zeros, and rest.
+                Some((1, level)) => {
+                    self.enter_still();
+                    self.tilted(s);
+                    self.bias_samples = 3 * n;
+                    return Action::Rebias {
+                        bias: level,
+                        discard: true,
+                    };
+                }
+                // Something changed after the steady stretch: it goes on as the shadow.
+                Some((j, level)) => return self.begin_shadow(s, level, j - 1, true),
+                None => {}
+            }
+            // Still tilting: the zeros become the longest one-sided sub-window's means.
             let m = s.sub_blocks[scale];
             let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
             let level: [i64; 3] = core::array::from_fn(|a| {
@@ -170,38 +215,89 @@ impl Detector {
                 bias[a] + crate::math::div_round(o, n as i64)
             });
             self.enter_still();
-            self.lift_wait(s);
+            self.tilted(s);
             self.bias_samples = n;
             return Action::Rebias {
                 bias: level,
                 discard: true,
             };
         }
-        let held = sided.iter().any(|&b| b >= hold);
+        let held = self.tilt.wary || sided.iter().any(|&b| b >= hold);
         if self.tilt.shadow.is_some() {
             return Action::None; // held until an end decides
         }
         if self.tilt.held && !held {
             if let Some(level) = self.level_before_change(s, bias) {
-                let m = u64::from(s.sub_blocks[0]);
-                let blocks = m.min(self.stream.blocks().saturating_sub(1));
-                let samples = blocks * u64::from(s.block) * u64::from(s.tick)
-                    + u64::from(self.stream.samples_in_block());
-                self.tilt.shadow = Some((level, samples, self.stream.ticks()));
-                return Action::Shadow {
-                    bias: level,
-                    blocks: blocks as usize,
-                };
+                return self.begin_shadow(s, level, 1, false);
             }
         }
         self.tilt.held = held;
         Action::None
     }
 
+    /// A shadow against the zeros `level` from `subs` short sub-windows back; `certain` when
+    /// the tilt is confirmed.
+    fn begin_shadow(&mut self, s: &DriftSettings, level: [i64; 3], subs: u32, certain: bool) -> Action {
+        let m = u64::from(s.sub_blocks[0] * subs);
+        let blocks = m.min(self.stream.blocks().saturating_sub(1));
+        let samples = blocks * u64::from(s.block) * u64::from(s.tick)
+            + u64::from(self.stream.samples_in_block());
+        self.tilt.shadow = Some((level, samples, self.stream.ticks(), certain));
+        self.tilt.held = true;
+        Action::Shadow {
+            bias: level,
+            blocks: blocks as usize,
+        }
+    }
+
+    /// The latest steady stretch among the last few short sub-windows: the first `j` (1 =
+    /// the last sub-window) such that sub-windows `j, j + 1, j + 2` back agree on every axis
+    /// and are significant on X or Y, with their level (Q16 counts).
+    fn steady_level(&self, s: &DriftSettings, bias: [i64; 3]) -> Option<(u32, [i64; 3])> {
+        let m = s.sub_blocks[0];
+        let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
+        let deepest = ((super::BLOCKS as u32 - 1) / m).saturating_sub(2).min(6);
+        (1..=deepest).find_map(|j| {
+            if self.motion.samples < u64::from(j + 2) * n {
+                return None;
+            }
+            let mut level = bias;
+            let mut significant = false;
+            for (a, b) in bias.iter().enumerate() {
+                let o: [i64; 3] = core::array::from_fn(|i| {
+                    let back = m * (j - 1 + i as u32);
+                    offset_q16(self.stream.blocks_sum(a, back + 1, back + m + 1), n, *b)
+                });
+                let d = &self.disturbance[a];
+                let allow = 2 * d.allow(d.gains(s).sub_q16[0], n / u64::from(s.tick));
+                let var = self.noise[a].var(2 * n, u64::MAX);
+                if !(within(o[0] - o[1], var, K_TILT2_Q8, allow)
+                    && within(o[1] - o[2], var, K_TILT2_Q8, allow))
+                {
+                    return None;
+                }
+                let sum: i64 = o.iter().sum();
+                if a < 2 {
+                    let var = self.noise[a].var(3 * n, self.bias_samples);
+                    significant |= !within(sum, var, K_TILT2_Q8, 3 * allow / 2);
+                }
+                level[a] = *b + crate::math::div_round(sum, 3 * n as i64);
+            }
+            significant.then_some((j, level))
+        })
+    }
+
+    /// A tilt's new zero was just taken: the lift test waits for its window, and a motion
+    /// soon after is wary.
+    fn tilted(&mut self, s: &DriftSettings) {
+        self.lift_wait(s);
+        self.tilted_until = self.stream.ticks() + u64::from(s.land_timeout);
+    }
+
     /// One more sample integrated by the shadow.
     #[inline(always)]
     pub(crate) fn shadow_sample(&mut self) {
-        if let Some((_, n, _)) = &mut self.tilt.shadow {
+        if let Some((_, n, _, _)) = &mut self.tilt.shadow {
             *n += 1;
         }
     }
@@ -237,29 +333,47 @@ impl Detector {
     pub(crate) fn shadow_decision(
         &mut self,
         s: &DriftSettings,
+        bias: [i64; 3],
         w: [i64; 3],
         quiet: bool,
         explained: bool,
     ) -> Option<Action> {
-        let (level, n, since) = self.tilt.shadow?;
+        let (level, n, since, certain) = self.tilt.shadow?;
         let nb = 3 * u64::from(s.sub_blocks[0]) * u64::from(s.block) * u64::from(s.tick);
         let shadow_quiet = self.quiet(s, level);
-        if shadow_quiet && quiet {
+        if shadow_quiet && quiet && !certain {
             return Some(Action::None);
         }
         if shadow_quiet && self.velocity_explained(s, w, n, nb) {
             self.enter_still();
-            self.lift_wait(s);
+            self.tilted(s);
             self.bias_samples = nb;
             return Some(Action::Adopt { stop: true });
         }
-        if quiet && explained {
+        if quiet && explained && !certain {
             return None;
         }
         if self.stream.ticks() - since < u64::from(s.land_timeout) {
-            return None;
+            return Some(Action::None);
         }
         self.tilt.shadow = None;
+        if certain {
+            // A tilt for certain whose shadow never came to rest: the pad went on tilting.
+            // The zeros become the last sub-window's means; Still.
+            let m = s.sub_blocks[0];
+            let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
+                        let level: [i64; 3] = core::array::from_fn(|a| {
+                let o = offset_q16(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
+                bias[a] + crate::math::div_round(o, n as i64)
+            });
+            self.enter_still();
+            self.tilted(s);
+            self.bias_samples = n;
+            return Some(Action::Rebias {
+                bias: level,
+                discard: true,
+            });
+        }
         let sided = self.one_sided_blocks(s);
         if sided.iter().any(|&b| b >= s.tilt_blocks[0]) {
             self.motion.begin(n);
