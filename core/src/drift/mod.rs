@@ -274,6 +274,8 @@ pub struct DriftSettings {
     /// The disturbance's average: `2^dist_shift` ticks; its margin over the noise (Q8).
     pub(crate) dist_shift: u32,
     pub(crate) dist_margin_q8: u64,
+    /// The short average's margin (Q8): its upper bound's factor.
+    pub(crate) dist_margin_short_q8: u64,
     /// The slow CUSUM's alarm, the fast CUSUM's alarm [sd, Q8].
     pub(crate) alarm_q8: [u64; 2],
     /// Hold of a new motion [samples].
@@ -421,13 +423,15 @@ impl Drift {
         });
         // The disturbance's average over about 160 ms, and its margin: 3 relative sd of an
         // average of 2^k / 2 independent squares (noise.rs).
-        let dist_shift = (libm::round(libm::log2(0.16 / tick_s)) as i32).clamp(2, 10) as u32;
+        let dist_shift = (libm::round(libm::log2(0.16 / tick_s)) as i32).clamp(3, 10) as u32;
         let dist_margin = 1.0 + 3.0 * libm::sqrt(2.0 / f64::from(1u32 << dist_shift));
+        let dist_margin_short = 1.0 + 3.0 * libm::sqrt(2.0 / f64::from(1u32 << (dist_shift - 2)));
         Ok(DriftSettings {
             tick,
             block,
             dist_shift,
             dist_margin_q8: round(dist_margin * 256.0),
+            dist_margin_short_q8: round(dist_margin_short * 256.0),
             fade_ticks: round(self.stroke_max_s / 8.0 / tick_s).max(1) as u32,
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],

@@ -29,6 +29,14 @@
 //! or above `knock_hz` can do through its own window (the gains computed at validation): a
 //! machine's vibration raises the thresholds by what it can fake, and no more.
 //!
+//! A knock rings and decays within a few of its periods, while `P` remembers it for several
+//! of its own time constants: the allowance would blind the tests long after the ring is
+//! gone. So `A` is also bounded by what a short average (40 ms, a quarter of the long one)
+//! can be sure of: its upper bound, `P_short` raised by its own margin (3 relative sd of an
+//! average of `2^(k-2) / 2` squares), less `E`. A weak, steady vibration stays within both
+//! bounds (the long one measures it, the short one cannot rule it out); a decaying ring
+//! leaves the short bound within tens of milliseconds.
+//!
 //! A brisk stroke's own content near 10 Hz leaks into the residual (the filter passes 10 Hz
 //! at about 0.6): its disturbance is counted too, which only widens the tests while it lasts.
 //!
@@ -166,8 +174,8 @@ impl Learn {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Disturbance {
     /// Exponential averages of the squared residual and of its squared first difference
-    /// [LSB^2 (L1 L2)^2].
-    power: [u128; 2],
+    /// over `2^k` ticks, and of the squared residual over `2^(k-2)` [LSB^2 (L1 L2)^2].
+    power: [u128; 3],
     /// Their noise-only expectations [LSB^2 (L1 L2)^2, Q32].
     expect_q32: [u128; 2],
     /// The last residual.
@@ -223,7 +231,7 @@ impl Disturbance {
             var_of_taps(&dc[..=taps], cov).max(0) as u128,
         ];
         Self {
-            power: expect_q32.map(|e| e >> 32),
+            power: [expect_q32[0] >> 32, expect_q32[1] >> 32, expect_q32[0] >> 32],
             expect_q32,
             last: 0,
             amp_q16: 0,
@@ -252,7 +260,7 @@ impl Disturbance {
         let r = stream.band_residual(s, axis);
         let diff = r - core::mem::replace(&mut self.last, r);
         let k = s.dist_shift;
-        for (p, x) in self.power.iter_mut().zip([r, diff]) {
+        for ((p, x), k) in self.power.iter_mut().zip([r, diff, r]).zip([k, k, k - 2]) {
             let x2 = u128::from(x.unsigned_abs()).pow(2); // < 2^86
             *p = if x2 >= *p {
                 *p + ((x2 - *p) >> k)
@@ -268,9 +276,12 @@ impl Disturbance {
             return;
         }
         let excess = p[0] - self.expect_q32[0];
+        // The short average's upper bound on the excess.
+        let upper = (p[2].saturating_mul(u128::from(s.dist_margin_short_q8)) >> 8)
+            .saturating_sub(self.expect_q32[0]);
         let l = u128::from(s.band[0] * s.band[1]);
         // sqrt(2 (P - E) 2^32) / (L1 L2): Q16 LSB per tick sum.
-        self.amp_q16 = (crate::math::isqrt_u128(2 * excess) / l) as u64;
+        self.amp_q16 = (crate::math::isqrt_u128(2 * excess.min(upper)) / l) as u64;
         // The frequency: the difference's excess (discounted by its margin) over the
         // residual's, against each bin's edge.
         let ratio_q16 = (p[1].saturating_sub(margin(self.expect_q32[1])) >> 16)
