@@ -34,6 +34,7 @@ fn info_counters_and_calibration_report_the_view() {
         samples: 3000,
         tick_var_q32: 0,
         long_run_var_q32: 0,
+        tick_lags_q32: [0; 3],
     };
     let view = View {
         tracking: true,

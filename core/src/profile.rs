@@ -196,24 +196,24 @@ keys! {
     RestNoiseMaxMS2 = 8, "rest_noise_max_m_s2", Kind::Real;
     /// Drift control on (1) or off (0).
     Drift = 9, "drift", Kind::Flag;
-    /// Drift control: hold of young motion [s].
-    HoldS = 11, "drift.hold_s", Kind::Real;
-    /// Drift control: zero tracking time constant [s], off = none.
-    BiasTauS = 22, "drift.bias_tau_s", Kind::Optional;
-    /// Drift control: motion suppressed after a click [s].
-    ClickFreezeS = 23, "drift.click_freeze_s", Kind::Real;
     /// Drift control: mean time at rest between false starts [device-hours].
     FalseStartHours = 40, "drift.false_start_hours", Kind::Real;
+    /// Drift control: hold of young motion [s].
+    HoldS = 11, "drift.hold_s", Kind::Real;
     /// Drift control: lowest frequency of a knock's ring or a machine's vibration [Hz].
     KnockHz = 41, "drift.knock_hz", Kind::Real;
     /// Drift control: the longest stroke of a hand [s].
     StrokeMaxS = 42, "drift.stroke_max_s", Kind::Real;
+    /// Drift control: the longest glide of a drag [s].
+    GlideMaxS = 45, "drift.glide_max_s", Kind::Real;
     /// Drift control: the slowest lift's rise [s], off = no lift detection.
     LiftRiseS = 43, "drift.lift_rise_s", Kind::Optional;
     /// Drift control: mounting tilt and cross-axis allowance [degrees].
     MountTiltDeg = 44, "drift.mount_tilt_deg", Kind::Real;
-    /// Drift control: the longest glide of a drag [s].
-    GlideMaxS = 45, "drift.glide_max_s", Kind::Real;
+    /// Drift control: zero tracking time constant [s], off = none.
+    BiasTauS = 22, "drift.bias_tau_s", Kind::Optional;
+    /// Drift control: motion suppressed after a click [s].
+    ClickFreezeS = 23, "drift.click_freeze_s", Kind::Real;
     /// Sensor axis that moves the cursor right (0 X, 1 Y, 2 Z).
     XAxis = 30, "x_axis", Kind::Integer { min: 0, max: 2 };
     /// +1, or -1 if that axis's positive direction moves the cursor left.
@@ -250,6 +250,8 @@ impl Key {
                 DriftError::MountTilt => Key::MountTiltDeg,
                 DriftError::BiasTau => Key::BiasTauS,
                 DriftError::ClickFreeze => Key::ClickFreezeS,
+                // The tuning has no key (a profile always has the default one).
+                DriftError::Tuning(_) => Key::Drift,
             },
         }
     }

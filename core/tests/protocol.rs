@@ -334,10 +334,10 @@ fn profile_keys_carry_every_value_and_refuse_what_does_not_fit() {
     p.set(Key::HoldS, 0.02).expect("fits");
     p.set(Key::Drift, 0.0).expect("fits");
     assert_eq!(p.config.drift, None);
-    p.set(Key::StartSigmas, 20.0).expect("fits");
+    p.set(Key::StrokeMaxS, 1.5).expect("fits");
     p.set(Key::Drift, 1.0).expect("fits");
     let d = p.config.drift.expect("on");
-    assert_eq!((d.hold_s, d.start_sigmas), (0.02, 20.0));
+    assert_eq!((d.hold_s, d.stroke_max_s), (0.02, 1.5));
     // Signs and axes.
     p.set(Key::YSign, -1.0).expect("fits");
     p.set(Key::XAxis, 2.0).expect("fits");
@@ -359,7 +359,7 @@ fn validation_names_the_key_that_is_wrong() {
         (Key::FsHz, 0.0, Key::FsHz),
         (Key::CountsPerInch, 0.0, Key::CountsPerInch),
         (Key::LowpassFcHz, 5000.0, Key::LowpassFcHz),
-        (Key::StartSigmas, 0.5, Key::StartSigmas),
+        (Key::StrokeMaxS, 0.1, Key::StrokeMaxS),
         (Key::YAxis, 0.0, Key::YAxis),
     ];
     for (key, value, named) in cases {
@@ -371,24 +371,19 @@ fn validation_names_the_key_that_is_wrong() {
     assert_eq!(Profile::default().validate(), Ok(()));
     // Every drift error maps to its own key.
     let drift_keys: Vec<Key> = [
-        DriftError::StartSigmas,
+        DriftError::FalseStart,
         DriftError::Hold,
-        DriftError::QuietWindow,
-        DriftError::QuietSigmas,
-        DriftError::VelocitySigmas,
-        DriftError::StopFraction,
-        DriftError::Coast,
-        DriftError::RestWindow,
-        DriftError::RestFactor,
-        DriftError::Tilt,
+        DriftError::Knock,
+        DriftError::Stroke,
+        DriftError::Glide,
         DriftError::Lift,
-        DriftError::LiftRatio,
+        DriftError::MountTilt,
         DriftError::BiasTau,
         DriftError::ClickFreeze,
     ]
     .map(|d| Key::of_error(ConfigError::Drift(d)))
     .to_vec();
-    assert_eq!(drift_keys, Key::ALL[9..23].to_vec());
+    assert_eq!(drift_keys, Key::ALL[9..18].to_vec());
 }
 
 #[test]

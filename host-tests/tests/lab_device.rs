@@ -98,7 +98,7 @@ fn every_command_works_and_a_saved_profile_survives_a_restart() {
         (Key::XSign, -1.0),
         (Key::LowpassFcHz, 80.0),
         (Key::HoldS, 0.02),
-        (Key::StartSigmas, 20.0),
+        (Key::StrokeMaxS, 1.5),
         (Key::CalibrationS, 0.5),
         (Key::FsHz, 4000.0),
     ];

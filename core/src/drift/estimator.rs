@@ -50,9 +50,6 @@ use super::click::Click;
 use super::ticks::offset;
 use super::{Action, Detector, DriftSettings};
 
-/// The tests' bound on the chi-square of the two horizontal axes, Q8: its 99.73 % point for 2
-/// degrees of freedom, `-2 ln(0.0027) = 11.83`.
-const K2_2D_Q8: u128 = 3028;
 
 /// A motion under way.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -93,7 +90,7 @@ impl Motion {
 
 /// Whether two offsets `d` (Q16 sums) with variances `var` (squared units) and allowances
 /// `allow` are explained together: `sum ((|d| - allow)^+ / sd)^2 <= K^2` (2 dof).
-fn explained_2d(d: [i64; 2], var: [u128; 2], allow: [u64; 2]) -> bool {
+fn explained_2d(bound_q8: u128, d: [i64; 2], var: [u128; 2], allow: [u64; 2]) -> bool {
     let mut chi2_q8 = 0u128;
     for a in 0..2 {
         let e = u128::from(d[a].unsigned_abs().saturating_sub(allow[a]));
@@ -101,12 +98,12 @@ fn explained_2d(d: [i64; 2], var: [u128; 2], allow: [u64; 2]) -> bool {
         let v = var[a].max(1);
         // (e^2 / var) in Q8, saturating well above the bound.
         chi2_q8 += if e2 >> 119 != 0 {
-            K2_2D_Q8 + 1
+            bound_q8 + 1
         } else {
             (e2 << 8) / v
         };
     }
-    chi2_q8 <= K2_2D_Q8
+    chi2_q8 <= bound_q8
 }
 
 impl Detector {
@@ -120,6 +117,7 @@ impl Detector {
             d.allow(d.gains(s).quiet_q16, u64::from(k))
         };
         explained_2d(
+            s.chi2_q8,
             [0, 1].map(|a| offset(w[a], n, bias[a])),
             [0, 1].map(|a| self.noise[a].var(n, self.bias_samples)),
             [allow(0), allow(1)],
@@ -140,6 +138,7 @@ impl Detector {
             d.allow(d.gains(s).velocity_q16, 1)
         };
         explained_2d(
+            s.chi2_q8,
             [velocity[0] / 2, velocity[1] / 2],
             [0, 1].map(|a| self.noise[a].var(n, nb)),
             [allow(0), allow(1)],

@@ -50,9 +50,6 @@ use super::noise::within;
 use super::ticks::offset_q16;
 use super::{Action, Detector, DriftSettings, State, RING};
 
-/// The landing test's bound [sd], squared, Q8 (the tilt test's).
-const K_LAND2_Q8: u64 = 9 * 256;
-
 /// The lift test's coefficients.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct LiftSettings {
@@ -67,18 +64,18 @@ pub struct LiftSettings {
 }
 
 impl LiftSettings {
-    /// The coefficients for the slowest rise `rise_s`, `knock_hz`, `mount_tilt_deg`, a budget
-    /// of `hours` between false lifts, at ticks of `tick_s`; `None` if the window would not
-    /// fit the tick ring.
+    /// The coefficients for a window of `window_s` (the slowest rise times the tuning's
+    /// fraction), `knock_hz`, `mount_tilt_deg`, a budget of `hours` between false lifts, at
+    /// ticks of `tick_s`; `None` if the window would not fit the tick ring.
     pub(crate) fn new(
-        rise_s: f64,
+        window_s: f64,
         knock_hz: f64,
         mount_tilt_deg: f64,
         hours: f64,
         tick_s: f64,
     ) -> Option<Self> {
         use crate::math::round_to_u64 as round;
-        let window = round(0.605 * rise_s / tick_s).max(2) as u32;
+        let window = round(window_s / tick_s).max(2) as u32;
         if window as usize >= RING {
             return None;
         }
@@ -259,14 +256,14 @@ impl Detector {
                 let dj = crate::math::div_round(oj, nj as i64) * n as i64;
                 let desk = self.disturbance[a].with_amplitude(self.lift.desk[a]);
                 let allow = desk.allow(desk.gains(s).land_q16, n / u64::from(s.tick));
-                within(di - dj, noise.var(2 * n, u64::MAX), K_LAND2_Q8, 2 * allow)
+                within(di - dj, noise.var(2 * n, u64::MAX), s.k2_q8, 2 * allow)
             };
             if !(steady(0, 1) && steady(1, 2)) {
                 return Action::None;
             }
             let (o, n) = t[2];
             n_last = n;
-            moved |= !within(o, noise.var(n, self.bias_samples), K_LAND2_Q8, 0);
+            moved |= !within(o, noise.var(n, self.bias_samples), s.k2_q8, 0);
             level[a] = *b + crate::math::div_round(o, n as i64);
         }
         self.enter_still();

@@ -103,6 +103,8 @@ pub struct Drift {
     pub bias_tau_s: Option<f64>,
     /// Motion suppressed after a button edge [s], `0..=2`.
     pub click_freeze_s: f64,
+    /// The statistics' constants (not a user setting: see [`Tuning`]).
+    pub tuning: Tuning,
 }
 
 impl Default for Drift {
@@ -132,6 +134,70 @@ impl Default for Drift {
             mount_tilt_deg: 5.0,
             bias_tau_s: Some(10.0),
             click_freeze_s: 0.15,
+            tuning: Tuning::default(),
+        }
+    }
+}
+
+/// The constants of drift control's statistics: sd multiples set by error rates, windows set
+/// by what each test must see, fractions of the stated hand limits. Every default is derived
+/// in the module of the rule that uses it; they are here, not in the settings a user sets over
+/// USB, so that the lab can vary each (`cargo lab mouse --sensitivity`: what each target does
+/// at half and at twice its value) and tests can switch a rule off (its control).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tuning {
+    /// The tilt, landing and fall tests' bound [sd], `1..=20`: 3, a 0.13 % tail each side.
+    pub k_sd: f64,
+    /// The quiet and velocity tests' bound on the chi-square of the two horizontal axes,
+    /// `1..=1e6`: 11.83, its 99.73 % point for 2 degrees of freedom ([`estimator`]).
+    pub chi2: f64,
+    /// The slow and the fast CUSUM's reference values [sd], `0.05..=10` each: 1/2 and 3/2,
+    /// half the offsets each is quickest for ([`rest`]).
+    pub kappa: [f64; 2],
+    /// A stroke's first lobe's least height on its CUSUM [sd], `0..=100`: 5, which noise
+    /// reaches in 0.7 % of runs ([`rest`]).
+    pub lobe_sd: f64,
+    /// The tilt test's short and long sub-windows [s], `0.02..=0.6` ([`tilt`]).
+    pub sub_s: [f64; 2],
+    /// The hold after a one-sided acceleration, as a fraction of `stroke_max_s`, `0..=0.5`:
+    /// 1/8, its runaway bound ([`tilt`]).
+    pub hold_fraction: f64,
+    /// The quiet time after which a stop is a faded glide (and the time any stop's velocity
+    /// waits), as a fraction of `stroke_max_s`, `0..=1`: 1/8 ([`estimator`]).
+    pub fade_fraction: f64,
+    /// The one-sided time that is a tilt, as a fraction of `stroke_max_s`, `0.25..=1.5`: 1/2,
+    /// no lobe of a hand's stroke being longer ([`tilt`]).
+    pub confirm_fraction: f64,
+    /// The quiet test's window [s], `0.005..=0.3`: 20 ms, the stop latency it costs.
+    pub quiet_s: f64,
+    /// The disturbance's average [s], `0.02..=2`: 160 ms ([`noise`]).
+    pub disturbance_s: f64,
+    /// The disturbance's margin over its own noise [relative sd], `0..=20`: 3 ([`noise`]).
+    pub disturbance_sigmas: f64,
+    /// The lift test's window as a fraction of the slowest rise, `0.1..=2`: 0.605, where a
+    /// minimum-jerk rise's displacement gains most on the noise ([`lift`]).
+    pub lift_window: f64,
+    /// How far above the calibration's long-run variance the detector starts [sd of that
+    /// estimate], `0..=10`: 2 ([`noise`]).
+    pub q_inflation_sd: f64,
+}
+
+impl Default for Tuning {
+    fn default() -> Self {
+        Self {
+            k_sd: 3.0,
+            chi2: 11.83,
+            kappa: [0.5, 1.5],
+            lobe_sd: 5.0,
+            sub_s: [0.1, 0.4],
+            hold_fraction: 0.125,
+            fade_fraction: 0.125,
+            confirm_fraction: 0.5,
+            quiet_s: 0.02,
+            disturbance_s: 0.16,
+            disturbance_sigmas: 3.0,
+            lift_window: 0.605,
+            q_inflation_sd: 2.0,
         }
     }
 }
@@ -158,6 +224,8 @@ pub enum DriftError {
     BiasTau,
     /// `click_freeze_s` outside `0..=2`.
     ClickFreeze,
+    /// A [`Tuning`] field (named) outside its range.
+    Tuning(&'static str),
 }
 
 impl fmt::Display for DriftError {
@@ -172,7 +240,39 @@ impl fmt::Display for DriftError {
             Self::MountTilt => "drift.mount_tilt_deg: must be within 0..=30 degrees",
             Self::BiasTau => "drift.bias_tau_s: must be at least 0.2 s and below 1e6 s, or off",
             Self::ClickFreeze => "drift.click_freeze_s: must be within 0..=2 s",
+            Self::Tuning(field) => {
+                return write!(f, "drift.tuning.{field}: outside its documented range")
+            }
         })
+    }
+}
+
+impl Tuning {
+    /// Checks every field against its documented range.
+    fn validate(&self) -> Result<(), DriftError> {
+        let within = |v: f64, lo: f64, hi: f64| v.is_finite() && v >= lo && v <= hi;
+        let checks: [(&'static str, bool); 13] = [
+            ("k_sd", within(self.k_sd, 1.0, 20.0)),
+            ("chi2", within(self.chi2, 1.0, 1e6)),
+            (
+                "kappa",
+                self.kappa.iter().all(|&k| within(k, 0.05, 10.0)),
+            ),
+            ("lobe_sd", within(self.lobe_sd, 0.0, 100.0)),
+            ("sub_s", self.sub_s.iter().all(|&w| within(w, 0.02, 0.6))),
+            ("hold_fraction", within(self.hold_fraction, 0.0, 0.5)),
+            ("fade_fraction", within(self.fade_fraction, 0.0, 1.0)),
+            ("confirm_fraction", within(self.confirm_fraction, 0.25, 1.5)),
+            ("quiet_s", within(self.quiet_s, 0.005, 0.3)),
+            ("disturbance_s", within(self.disturbance_s, 0.02, 2.0)),
+            ("disturbance_sigmas", within(self.disturbance_sigmas, 0.0, 20.0)),
+            ("lift_window", within(self.lift_window, 0.1, 2.0)),
+            ("q_inflation_sd", within(self.q_inflation_sd, 0.0, 10.0)),
+        ];
+        match checks.iter().find(|c| !c.1) {
+            Some((name, _)) => Err(DriftError::Tuning(name)),
+            None => Ok(()),
+        }
     }
 }
 
@@ -278,6 +378,14 @@ pub struct DriftSettings {
     pub(crate) dist_margin_short_q8: u64,
     /// The slow CUSUM's alarm, the fast CUSUM's alarm [sd, Q8].
     pub(crate) alarm_q8: [u64; 2],
+    /// Their reference values [sd, Q8]; a first lobe's least height [sd, Q8].
+    pub(crate) kappa_q8: [i64; 2],
+    pub(crate) lobe_q8: i64,
+    /// The tilt, landing and fall tests' bound squared [sd^2, Q8]; the 2-D tests' chi-square
+    /// bound [Q8]; the calibrated q's inflation [sd of its estimate, Q8].
+    pub(crate) k2_q8: u64,
+    pub(crate) chi2_q8: u128,
+    pub(crate) inflation_q8: u64,
     /// Hold of a new motion [samples].
     pub(crate) hold: u64,
     /// Quiet window [ticks].
@@ -307,6 +415,8 @@ impl Drift {
         use crate::math::round_to_u64 as round;
         let _ = m_s2_per_lsb; // every threshold is in sd of the measured noise
         let within = |v: f64, lo: f64, hi: f64| v.is_finite() && v >= lo && v <= hi;
+        let t = &self.tuning;
+        t.validate()?;
         let fs = f64::from(fs_hz);
         let tick = tick_samples(fs_hz);
         let tick_s = f64::from(tick) / fs;
@@ -334,12 +444,16 @@ impl Drift {
         let block_s = f64::from(block) * tick_s;
         // Tilt durations (tilt.rs): the hold after an eighth of the longest stroke (its
         // runaway bound), the confirmation after half of it plus the sub-window.
-        let sub_blocks = tilt::SUB_S.map(|w| round(w / block_s).max(1) as u32);
-        let hold_blocks = (round(self.stroke_max_s / 8.0 / block_s) as u32).max(1);
-        let confirm = round(self.stroke_max_s / 2.0 / block_s) as u32;
+        let sub_blocks = t.sub_s.map(|w| round(w / block_s).max(1) as u32);
+        let hold_blocks = (round(self.stroke_max_s * t.hold_fraction / block_s) as u32).max(1);
+        let confirm = round(self.stroke_max_s * t.confirm_fraction / block_s) as u32;
         // The landing window (lift.rs): the hold's, in thirds.
         let land_blocks = hold_blocks.max(3);
-        if land_blocks as usize > BLOCKS - 1 || sub_blocks[1] as usize > BLOCKS - 1 {
+        // The tilt tests look back over four short sub-windows and one long one.
+        if land_blocks as usize > BLOCKS - 1
+            || 4 * sub_blocks[0] as usize > BLOCKS - 1
+            || sub_blocks[1] as usize > BLOCKS - 1
+        {
             return Err(DriftError::Stroke);
         }
         if !within(self.glide_max_s, 0.0, 60.0) {
@@ -349,7 +463,7 @@ impl Drift {
             None => None,
             Some(r) if within(r, 0.05, 0.5) => Some(
                 lift::LiftSettings::new(
-                    r,
+                    r * t.lift_window,
                     self.knock_hz,
                     self.mount_tilt_deg,
                     self.false_start_hours,
@@ -374,8 +488,8 @@ impl Drift {
         // The start tests (rest.rs): 8 one-sided CUSUMs (slow and fast, X and Y, both
         // signs) share the budget.
         let arl = self.false_start_hours * 3600.0 / tick_s * 8.0;
-        let slow = cusum_threshold(rest::KAPPA[0], arl);
-        let fast = cusum_threshold(rest::KAPPA[1], arl) - 1.166;
+        let slow = cusum_threshold(t.kappa[0], arl);
+        let fast = (cusum_threshold(t.kappa[1], arl) - 1.166).max(0.0);
         let arl_ticks = round(self.false_start_hours * 3600.0 / tick_s);
 
         // Gains at and above each frequency bin of the disturbance, up to Nyquist (ticks and
@@ -383,7 +497,7 @@ impl Drift {
         // through each test (noise.rs).
         let nyq = fs / 2.0;
         let sample_box = |f: f64| boxcar(tick, f / fs);
-        let quiet_ticks = round(0.02 / tick_s).max(1) as u32;
+        let quiet_ticks = round(t.quiet_s / tick_s).max(1) as u32;
         let top = nyq.min(0.8 * f_tick).max(self.knock_hz);
         let edge = |k: usize| {
             let hi = (f_tick / 2.0).max(self.knock_hz);
@@ -423,16 +537,20 @@ impl Drift {
         });
         // The disturbance's average over about 160 ms, and its margin: 3 relative sd of an
         // average of 2^k / 2 independent squares (noise.rs).
-        let dist_shift = (libm::round(libm::log2(0.16 / tick_s)) as i32).clamp(3, 10) as u32;
-        let dist_margin = 1.0 + 3.0 * libm::sqrt(2.0 / f64::from(1u32 << dist_shift));
-        let dist_margin_short = 1.0 + 3.0 * libm::sqrt(2.0 / f64::from(1u32 << (dist_shift - 2)));
+        let dist_shift =
+            (libm::round(libm::log2(t.disturbance_s / tick_s)) as i32).clamp(3, 10) as u32;
+        let margin = |shift: u32| {
+            1.0 + t.disturbance_sigmas * libm::sqrt(2.0 / f64::from(1u32 << shift))
+        };
+        let dist_margin = margin(dist_shift);
+        let dist_margin_short = margin(dist_shift - 2);
         Ok(DriftSettings {
             tick,
             block,
             dist_shift,
             dist_margin_q8: round(dist_margin * 256.0),
             dist_margin_short_q8: round(dist_margin_short * 256.0),
-            fade_ticks: round(self.stroke_max_s / 8.0 / tick_s).max(1) as u32,
+            fade_ticks: round(self.stroke_max_s * t.fade_fraction / tick_s).max(1) as u32,
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
             band_delay: (l1 + l2 - 2) / 2,
@@ -443,6 +561,11 @@ impl Drift {
             gains,
             pre_blocks: (libm::ceil(1.0 / self.knock_hz / block_s) as u32).max(2),
             alarm_q8: [round(slow * 256.0), round(fast * 256.0)],
+            kappa_q8: t.kappa.map(|k| round(k * 256.0) as i64),
+            lobe_q8: round(t.lobe_sd * 256.0) as i64,
+            k2_q8: round(t.k_sd * t.k_sd * 256.0),
+            chi2_q8: u128::from(round(t.chi2 * 256.0)),
+            inflation_q8: round(t.q_inflation_sd * 256.0),
             hold: round(self.hold_s * fs),
             quiet_ticks,
             tilt_blocks: [hold_blocks, confirm],

@@ -106,8 +106,9 @@ impl Noise {
     pub(crate) fn from_calibration(s: &DriftSettings, cal: &Calibration) -> Self {
         let ticks = u64::from(cal.samples / s.tick).max(1);
         let q = u128::from(cal.long_run_var_q32);
-        // 1 + 2 sqrt(8 / k), Q8.
-        let inflate_q8 = 256 + crate::math::isqrt_u128(8 * 4 * 65_536 / u128::from(ticks));
+        // 1 + z sqrt(8 / k), Q8 (z = 2: the tuning's q_inflation_sd).
+        let z = u128::from(s.inflation_q8);
+        let inflate_q8 = 256 + ((z * crate::math::isqrt_u128(8 * 65_536 / u128::from(ticks))) >> 8);
         let q = ((q * inflate_q8) >> 8).min(u128::from(u64::MAX)) as u64;
         Self::new(s, q)
     }

@@ -33,8 +33,9 @@
 //! one's first lobe may fall short of the alarm and its second cross it, and integrating from
 //! the second lobe alone would leave the cursor gliding back at the stroke's peak speed. So
 //! each CUSUM also remembers its other side's last run: if that run ended where this one
-//! began (within the filter's length) and rose above [`LOBE_SD`] sd, which noise alone does
-//! with probability `e^(-2 kappa 5) = 0.7 %` per run, the onset is that run's. The blocks
+//! began (within the filter's length) and rose above 5 sd, which noise alone does
+//! with probability `e^(-2 kappa 5) = 0.7 %` per run ([`super::Tuning::lobe_sd`]), the onset
+//! is that run's. The blocks
 //! since the onset (at most [`super::BLOCKS`] - 1, 1.28 s) are integrated at once, from zero
 //! velocity: a slow stroke found half-way loses nothing of its start. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
 //! ramp: its hold runs from now, not from an onset noise may have placed earlier
@@ -44,13 +45,6 @@ use super::noise::{Disturbance, Noise};
 use super::ticks::{offset, TickStream};
 use super::{Action, Detector, DriftSettings, State, BLOCKS};
 
-/// The CUSUMs' reference values `kappa` [sd of a tick sum]: slow (filtered), fast (raw).
-pub const KAPPA: [f64; 2] = [0.5, 1.5];
-/// A CUSUM run on the other side that rose this high [sd] and ended where an alarm's run
-/// began is the stroke's first lobe.
-pub const LOBE_SD: i64 = 5;
-/// The same in Q8.
-const KAPPA_Q8: [i64; 2] = [128, 384];
 
 /// The start tests' state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -80,10 +74,18 @@ impl Rest {
 
     /// The onset of the run of CUSUM `c` on `axis`, `side` that alarmed: its own, or its
     /// other side's last run's if that was the stroke's first lobe (see the module docs).
-    fn onset_of(&self, c: usize, axis: usize, side: usize, sd: i64, slack: u64) -> u64 {
+    fn onset_of(
+        &self,
+        s: &DriftSettings,
+        c: usize,
+        axis: usize,
+        side: usize,
+        sd: i64,
+        slack: u64,
+    ) -> u64 {
         let own = self.onset[c][axis][side];
         let (onset, peak, end) = self.last[c][axis][1 - side];
-        if end + slack >= own && peak >= LOBE_SD * sd {
+        if end + slack >= own && i128::from(peak) << 8 >= i128::from(s.lobe_q8) * i128::from(sd) {
             onset.min(own)
         } else {
             own
@@ -97,8 +99,8 @@ impl Rest {
         let a = d.amp_q16 as i64;
         let band = d.allow(d.gains(s).band_q16, 1) as i64;
         let kappa = [
-            ((KAPPA_Q8[0] * sd) >> 8) + band,
-            ((KAPPA_Q8[1] * sd) >> 8) + a,
+            ((s.kappa_q8[0] * sd) >> 8) + band,
+            ((s.kappa_q8[1] * sd) >> 8) + a,
         ];
         let alarm = s
             .alarm_q8
@@ -185,7 +187,7 @@ impl Detector {
                         // if it has begun, is the earlier start); no run began before this
                         // rest.
                         let delay = u64::from(s.band_delay);
-                        let mut on = self.rest.onset_of(c, a, side, sd, slack);
+                        let mut on = self.rest.onset_of(s, c, a, side, sd, slack);
                         if c == 0 {
                             on = on.saturating_sub(delay);
                         } else if self.rest.cusum[0][a][side] > 0 {

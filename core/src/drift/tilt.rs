@@ -78,12 +78,6 @@ use super::noise::within;
 use super::ticks::offset_q16;
 use super::{Action, Detector, DriftSettings, State, REPLAY};
 
-/// The tilt tests' bound [sd], squared, Q8.
-const K_TILT2_Q8: u64 = 9 * 256;
-
-/// The tilt test's sub-windows [s]: the short scale and the long one.
-pub const SUB_S: [f64; 2] = [0.1, 0.4];
-
 /// The tilt tests' state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Tilt {
@@ -117,7 +111,7 @@ impl Detector {
         let d = &self.disturbance[axis];
         let allow = d.allow(d.gains(s).sub_q16[scale], n / u64::from(s.tick));
         let var = self.noise[axis].var(n, self.bias_samples);
-        if within(o, var, K_TILT2_Q8, allow) {
+        if within(o, var, s.k2_q8, allow) {
             0
         } else {
             o.signum() as i8
@@ -271,15 +265,15 @@ impl Detector {
                 let d = &self.disturbance[a];
                 let allow = 2 * d.allow(d.gains(s).sub_q16[0], n / u64::from(s.tick));
                 let var = self.noise[a].var(2 * n, u64::MAX);
-                if !(within(o[0] - o[1], var, K_TILT2_Q8, allow)
-                    && within(o[1] - o[2], var, K_TILT2_Q8, allow))
+                if !(within(o[0] - o[1], var, s.k2_q8, allow)
+                    && within(o[1] - o[2], var, s.k2_q8, allow))
                 {
                     return None;
                 }
                 let sum: i64 = o.iter().sum();
                 if a < 2 {
                     let var = self.noise[a].var(3 * n, self.bias_samples);
-                    significant |= !within(sum, var, K_TILT2_Q8, 3 * allow / 2);
+                    significant |= !within(sum, var, s.k2_q8, 3 * allow / 2);
                 }
                 level[a] = *b + crate::math::div_round(sum, 3 * n as i64);
             }
@@ -318,7 +312,7 @@ impl Detector {
                 let d = &self.disturbance[a];
                 let allow = d.allow(d.gains(s).sub_q16[0], 3 * n / u64::from(s.tick));
                 let var = self.noise[a].var(3 * n, self.bias_samples);
-                significant |= !within(sum, var, K_TILT2_Q8, allow);
+                significant |= !within(sum, var, s.k2_q8, allow);
             }
             level[a] = *b + crate::math::div_round(sum, 3 * n as i64);
         }

@@ -602,9 +602,13 @@ mod tests {
         };
         let back = Motion::Lift {
             t0: 3.0,
+            h: 0.005,
+            rise: 0.2,
+            air: 0.2,
+            fall: 0.2,
             from: [0.05, 0.0],
             to: [0.0; 2],
-            ..away
+            in_air: true,
         };
         let sc = Scenario {
             motions: vec![away, back],
