@@ -3,6 +3,7 @@
 //! control off (or the freeze off) that does move.
 
 use imu_core::bench::testsignal::Trace;
+use imu_core::drift::Tuning;
 use imu_core::{Config, ConfigError, Drift, DriftError, DriftState, Tracker};
 
 /// Deterministic noise from the core's SplitMix64 trace generator.
@@ -154,7 +155,10 @@ fn a_stroke_that_coasts_in_the_middle_is_not_cut_there() {
     assert!((a[0] - p[0]).abs() <= 10, "{a:?} vs {p:?}");
     assert_eq!(on.counters().motions, 1);
     let mut cut = tracker(Some(Drift {
-        velocity_sigmas: 1000.0,
+        tuning: Tuning {
+            chi2: 1e6,
+            ..Tuning::default()
+        },
         ..Drift::default()
     }));
     let c = run(&mut cut, 9000, stroke);
@@ -162,33 +166,84 @@ fn a_stroke_that_coasts_in_the_middle_is_not_cut_there() {
 }
 
 #[test]
-fn a_glide_that_no_acceleration_explains_stops_after_coast_s() {
-    // +20 LSB for 0.1 s and never the deceleration (a hand that stops gently, below the
-    // noise): the cursor glides until the rest_s window has left the push behind and then
-    // for coast_s (0.3 + 0.5 s), stops, and stays still.
+fn a_glide_goes_on_while_its_velocity_is_known_and_its_ramp_down_does_not_run_it_back() {
+    // +20 LSB for 0.1 s (a ramp to 48 mm/s), a glide with no acceleration at all, then -20
+    // LSB for 0.1 s (the ramp down) 2 s later. The glide's velocity is hundreds of sd from
+    // zero: the cursor glides on, and the ramp down ends it where the hand stopped.
     let glide = |i: usize| {
-        let v = if (3000..3300).contains(&i) {
-            2068
-        } else {
-            2048
+        let v = match i {
+            3000..=3299 => 2068,
+            9300..=9599 => 2028,
+            _ => 2048,
         };
         [v, 2048, 2048]
     };
-    let mut t = tracker(Some(Drift::default()));
-    let a = run(&mut t, 3300 + 2400 + 60, glide); // until just after 0.8 s of glide
-    assert!(t.is_still(), "{:?} {:?}", t.drift_state(), t.counters());
-    let b = run(&mut t, 6000, |i| glide(i + 9000));
-    assert_eq!(b, [0, 0, 0]);
-    // 0.1 s at 20 LSB (v = 0.0479 m/s: 2.4 mm) then 0.8 s of glide (38 mm).
     let lsb = Config::default().m_s2_per_lsb;
+    // 0.1 s of ramp (v t / 2 each) and 2 s of glide at v = 20 LSB * 0.1 s.
     let v = 20.0 * lsb * 0.1;
-    let at = |t_glide: f64| (v * 0.05 + v * t_glide) / 0.0254 * 800.0;
-    assert!(
-        (a[0] as f64) > at(0.75) && (a[0] as f64) < at(0.86),
-        "{a:?} vs {}..{}",
-        at(0.75),
-        at(0.86)
-    );
+    let want = (v * 0.1 + v * 2.0) / 0.0254 * 800.0;
+    let mut t = tracker(Some(Drift::default()));
+    let a = run(&mut t, 9000, glide);
+    assert_eq!(t.drift_state(), Some(DriftState::Moving), "mid-glide");
+    let b = run(&mut t, 6000, |i| glide(i + 9000));
+    let total = a[0] + b[0];
+    assert!((total as f64 - want).abs() < 0.02 * want, "{total} vs {want}");
+    assert!(t.is_still(), "{:?}", t.drift_state());
+    // Control: a stop that takes every velocity for zero cuts the glide at its start.
+    let mut cut = tracker(Some(Drift {
+        tuning: Tuning {
+            chi2: 1e6,
+            ..Tuning::default()
+        },
+        ..Drift::default()
+    }));
+    let c = run(&mut cut, 15_000, glide);
+    assert!((c[0] as f64) < 0.2 * want, "{c:?} vs {want}");
+}
+
+#[test]
+fn a_faded_glide_carries_its_velocity_into_the_ramp_down() {
+    // A glide so slow that its own uncertainty catches it up: +1 LSB for 0.2 s on a noisy
+    // rest (the calibration's noise, variance 1 LSB^2), a glide of 4.8 mm/s, and its ramp
+    // down 3 s later. The glide fades (the cursor stops) and its velocity waits: the ramp
+    // down brings it to zero, it does not start a motion backwards. Control: with no wait
+    // (glide_max_s 0) the ramp down runs the cursor back.
+    let scene = |i: usize, n: &mut Noise| {
+        let v = match i {
+            3000..=3599 => 2049,
+            12_600..=13_199 => 2047,
+            _ => 2048,
+        };
+        [n.code(v), n.code(2048), n.code(2048)]
+    };
+    for (glide_max_s, backwards) in [(4.0, false), (0.0, true)] {
+        let mut t = tracker(Some(Drift {
+            glide_max_s,
+            ..Drift::default()
+        }));
+        let mut n = Noise(Trace::new(21));
+        let retreat = max_retreat(&mut t, 20_000, |i| scene(i, &mut n));
+        // At most 2 mm (63 counts) back, with the wait.
+        assert_eq!(
+            retreat > 63,
+            backwards,
+            "glide_max_s {glide_max_s}: retreat {retreat}"
+        );
+    }
+}
+
+/// The largest retreat of the cursor's X below its running maximum over `n` samples.
+fn max_retreat(t: &mut Tracker, n: usize, mut f: impl FnMut(usize) -> [u16; 3]) -> i64 {
+    let (mut pos, mut best, mut retreat) = (0i64, 0i64, 0i64);
+    for i in 0..n {
+        t.feed(&[f(i)]);
+        if i % 3 == 2 {
+            pos += i64::from(t.take_counts()[0]);
+            best = best.max(pos);
+            retreat = retreat.max(best - pos);
+        }
+    }
+    retreat
 }
 
 #[test]
@@ -229,17 +284,20 @@ fn a_lift_and_a_tilted_landing_do_not_move_the_cursor() {
         };
         [n.code(x), n.code(2048), n.code(z)]
     };
-    for (detect, moves) in [(Some(0.3), false), (None, true)] {
+    for (detect, moves) in [(Some(0.5), false), (None, true)] {
         let mut t = tracker(Some(Drift {
-            lift_m_s2: detect,
+            lift_rise_s: detect,
             ..Drift::default()
         }));
         let mut n = Noise(Trace::new(9));
         let a = run(&mut t, 15_000, |i| lift(i, &mut n));
         let moved = a[0].abs() + a[1].abs();
-        assert_eq!(moved > 160, moves, "lift {detect:?}: {a:?}"); // 160 counts = 5 mm
+        // 160 counts = 5 mm, issue 22's bound per re-placement. The tilt in the air begins
+        // with the rise: what X integrates before the lift is seen (its persistence, 25 ms)
+        // is a few counts.
+        assert_eq!(moved > 160, moves, "lift {detect:?}: {a:?}");
         if !moves {
-            assert_eq!(a, [0, 0, 0]);
+            assert!(moved <= 5, "{a:?}");
             assert_eq!((t.counters().lifts, t.counters().rebiases), (1, 1));
             assert!(t.is_still());
         }
@@ -248,7 +306,9 @@ fn a_lift_and_a_tilted_landing_do_not_move_the_cursor() {
 
 #[test]
 fn a_knock_moves_nothing_and_keeps_the_bias() {
-    // A knock on the desk: Z rings at +-80 LSB for 30 ms, X at +-10 LSB.
+    // A knock on the desk: Z rings at +-80 LSB for 30 ms, X at +-10 LSB (at 167 Hz: it moves
+    // the device by micrometres). It is integrated, exactly, and returns: nothing is
+    // delivered, it is not a lift, and the zero stays.
     let knock = |i: usize, n: &mut Noise| {
         let ring = (6000..6090).contains(&i);
         let s = if i % 6 < 3 { 1i32 } else { -1 };
@@ -261,7 +321,7 @@ fn a_knock_moves_nothing_and_keeps_the_bias() {
     let bias = t.axes()[0].bias_q16();
     let a = run(&mut t, 12_000, |i| knock(i, &mut n));
     assert_eq!(a, [0, 0, 0]);
-    assert_eq!((t.counters().lifts, t.counters().rebiases), (1, 0));
+    assert_eq!((t.counters().lifts, t.counters().rebiases), (0, 0));
     assert!((t.axes()[0].bias_q16() - bias).abs() < 65_536 / 10);
 }
 
@@ -326,17 +386,30 @@ fn lost_samples_at_rest_do_not_move() {
 fn drift_errors_are_named() {
     let bad = Config {
         drift: Some(Drift {
-            rest_s: 1.0,
+            stroke_max_s: 10.0,
             ..Drift::default()
         }),
         ..Config::default()
     };
     assert_eq!(
         bad.validate().err(),
-        Some(ConfigError::Drift(DriftError::RestWindow))
+        Some(ConfigError::Drift(DriftError::Stroke))
     );
-    let msg = format!("{}", ConfigError::Drift(DriftError::RestWindow));
-    assert!(msg.starts_with("drift.rest_s"), "{msg}");
+    let msg = format!("{}", ConfigError::Drift(DriftError::Stroke));
+    assert!(msg.starts_with("drift.stroke_max_s"), "{msg}");
+    let tuned = Config {
+        drift: Some(Drift {
+            tuning: Tuning {
+                k_sd: 0.0,
+                ..Tuning::default()
+            },
+            ..Drift::default()
+        }),
+        ..Config::default()
+    };
+    let e = tuned.validate().err();
+    assert_eq!(e, Some(ConfigError::Drift(DriftError::Tuning("k_sd"))));
+    assert!(format!("{}", e.expect("an error")).contains("drift.tuning.k_sd"));
 }
 
 #[test]
@@ -415,46 +488,12 @@ fn velocity_is_zero_whenever_drift_control_is_not_integrating() {
 }
 
 #[test]
-fn a_stroke_that_leaves_a_tenth_of_its_speed_stops_at_its_end() {
-    // +20 LSB for 0.1 s, -18 LSB for 0.1 s: a tenth of the peak velocity is left (a scale
-    // error, a tilt while moving), far above the noise. Below a quarter of the peak it
-    // counts as zero: the cursor stops at the stroke's end. Control: without that rule it
-    // glides on for coast_s.
-    let stroke = |i: usize| {
-        let v = match i {
-            3000..=3299 => 2068,
-            3300..=3599 => 2030,
-            _ => 2048,
-        };
-        [v, 2048, 2048]
-    };
-    let lsb = Config::default().m_s2_per_lsb;
-    // The stroke's own displacement [LSB s^2]: 20 * 0.1^2 / 2 in the push, then
-    // 2 * 0.1 - 18 * 0.1^2 / 2 in the pull: 0.21.
-    let stroke_counts = 0.21 * lsb / 0.0254 * 800.0;
-    for (fraction, glides) in [(0.25, false), (0.0, true)] {
-        let mut t = tracker(Some(Drift {
-            stop_fraction: fraction,
-            ..Drift::default()
-        }));
-        let a = run(&mut t, 9000, stroke);
-        // The velocity left, 2 LSB * 0.1 s = 4.8 mm/s, over 0.5 s of glide: 2.4 mm = 75
-        // counts; stopping at the end leaves at most the 20 ms of the stop test (3 counts).
-        let extra = a[0] as f64 - stroke_counts;
-        assert_eq!(
-            extra > 40.0,
-            glides,
-            "stop_fraction {fraction}: {a:?} vs {stroke_counts}"
-        );
-    }
-}
-
-#[test]
 fn a_brisk_stroke_that_a_tilted_mount_puts_on_z_is_not_a_lift() {
     // The sensor sits 10 degrees off level in the case: a sixth of X's acceleration shows on
-    // Z. A brisk stroke of 100 LSB (2.4 m/s^2) puts 17 LSB on Z, above the lift threshold
-    // (12.5 LSB) alone; the horizontal share (lift_xy_ratio) keeps it a stroke. Control:
-    // with the ratio 0 it is taken for a lift and not tracked.
+    // Z. A brisk stroke of 100 LSB (2.4 m/s^2, 6 mm) puts 1 mm of displacement on Z, a lift's
+    // on its own; the mounting allowance (a sin(12 degrees) share of the horizontal
+    // displacement) keeps it a stroke. Control: with no allowance it is taken for a lift and
+    // not tracked.
     let stroke = |i: usize| {
         let x: i32 = match i {
             3000..=3149 => 100,
@@ -465,9 +504,9 @@ fn a_brisk_stroke_that_a_tilted_mount_puts_on_z_is_not_a_lift() {
     };
     let lsb = Config::default().m_s2_per_lsb;
     let want = 100.0 * lsb * 0.05 * 0.05 / 0.0254 * 800.0; // a t1^2: 189 counts
-    for (ratio, tracked) in [(0.25, true), (0.0, false)] {
+    for (ratio, tracked) in [(12.0, true), (0.0, false)] {
         let mut t = tracker(Some(Drift {
-            lift_xy_ratio: ratio,
+            mount_tilt_deg: ratio,
             ..Drift::default()
         }));
         let a = run(&mut t, 9000, stroke);
@@ -481,7 +520,8 @@ fn a_brisk_stroke_that_a_tilted_mount_puts_on_z_is_not_a_lift() {
 
 /// Sampling dies 0.2 s into a push and restarts 1 s later: the gap's acceleration is
 /// unknown. `restarted` stops the motion there; `lost` (for a late block, where holding is
-/// right) would hold the push for the whole second. The control shows what the hold costs.
+/// right) would hold the push for the whole second. The control shows what the hold costs
+/// the pure integrator (drift control takes a second of one-sided push for a tilt).
 #[test]
 fn a_sampling_restart_mid_stroke_stops_the_motion_instead_of_holding_it() {
     for drift in [Some(Drift::default()), None] {
@@ -508,10 +548,12 @@ fn a_sampling_restart_mid_stroke_stops_the_motion_instead_of_holding_it() {
             after_cut.abs() <= 1,
             "{drift:?}: {after_cut} counts after the restart"
         );
-        assert!(
-            after_held > 10_000,
-            "{drift:?}: the hold moved only {after_held}"
-        );
+        if drift.is_none() {
+            assert!(
+                after_held > 10_000,
+                "{drift:?}: the hold moved only {after_held}"
+            );
+        }
     }
 }
 
