@@ -25,6 +25,13 @@
 //! `e_a` the axis's offset less its allowance, `K^2` the 99.73 % point of a chi-square with 2
 //! degrees of freedom (11.8): a motion along a diagonal is judged as one along an axis.
 //!
+//! # On a shaking desk
+//! A motion that starts while the desk is disturbed (a machine vibrating, starting up faster
+//! than the disturbance's estimate follows; a ring) may be the disturbance itself: it is held
+//! until its velocity stands out of what the velocity test explains (the disturbance's
+//! velocity allowed for), and discarded if it stops first. A hand's stroke outruns a
+//! vibration's velocity (2.6 mm/s at 50 mg and 30 Hz) within tens of milliseconds.
+//!
 //! # A glide that fades
 //! A glide's velocity is stopped once its uncertainty has grown past it (a 10 mm/s glide 1.5 s
 //! after its ramp), although the hand may glide on: if its ramp down then started a motion
@@ -58,6 +65,8 @@ pub struct Motion {
     pub(crate) samples: u64,
     /// Ticks the quiet test has held in a row.
     quiet_run: u32,
+    /// Started on a disturbed desk and not yet out of the disturbance's velocity.
+    pub(crate) unproven: bool,
 }
 
 /// A faded glide's velocity, waiting for the next motion.
@@ -78,6 +87,7 @@ impl Motion {
     pub(crate) fn begin(&mut self, samples: u64) {
         self.samples = samples;
         self.quiet_run = 0;
+        self.unproven = false;
     }
 
     /// One more sample integrated.
@@ -174,13 +184,22 @@ impl Detector {
                 return action;
             }
         }
+        if self.motion.unproven && !explained {
+            self.motion.unproven = false;
+        }
         if quiet && explained {
-            // A motion that ends younger than its hold was a jolt, not a stroke; a tilt
+            // A motion that ends younger than its hold was a jolt, not a stroke; one that
+            // never stood out of the desk's disturbance was the disturbance; a tilt
             // suspicion that ends in a stop was refuted: deliver.
-            let held = self.click.hold_left > 0;
+            let held = self.click.hold_left > 0 || self.motion.unproven;
             let fade = self.motion.quiet_run >= s.fade_ticks;
             let samples = self.motion.samples;
+            let discarded_only = self.motion.unproven;
+            let real_end = self.real_end;
             self.enter_still();
+            if discarded_only {
+                self.real_end = real_end;
+            }
             if !held {
                 self.latent = Latent {
                     w: [velocity[0], velocity[1]],

@@ -172,7 +172,8 @@ pub struct Tuning {
     pub quiet_s: f64,
     /// The disturbance's average [s], `0.02..=2`: 160 ms ([`noise`]).
     pub disturbance_s: f64,
-    /// The disturbance's margin over its own noise [relative sd], `0..=20`: 3 ([`noise`]).
+    /// The disturbance's margin over its own noise [relative sd of an average, sd of one
+    /// tick's residual], `0..=20`: 3 ([`noise`]).
     pub disturbance_sigmas: f64,
     /// The lift test's window as a fraction of the slowest rise, `0.1..=2`: 0.605, where a
     /// minimum-jerk rise's displacement gains most on the noise ([`lift`]).
@@ -376,6 +377,8 @@ pub struct DriftSettings {
     pub(crate) dist_margin_q8: u64,
     /// The short average's margin (Q8): its upper bound's factor.
     pub(crate) dist_margin_short_q8: u64,
+    /// A burst: a tick's residual beyond this many of its sd, squared (Q8).
+    pub(crate) burst_k2_q8: u64,
     /// The slow CUSUM's alarm, the fast CUSUM's alarm [sd, Q8].
     pub(crate) alarm_q8: [u64; 2],
     /// Their reference values [sd, Q8]; a first lobe's least height [sd, Q8].
@@ -550,6 +553,7 @@ impl Drift {
             dist_shift,
             dist_margin_q8: round(dist_margin * 256.0),
             dist_margin_short_q8: round(dist_margin_short * 256.0),
+            burst_k2_q8: round(t.disturbance_sigmas * t.disturbance_sigmas * 256.0),
             fade_ticks: round(self.stroke_max_s * t.fade_fraction / tick_s).max(1) as u32,
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
@@ -684,6 +688,8 @@ pub struct Detector {
     pub(crate) bias_samples: u64,
     /// A motion starting before this tick follows a tilt's new zero ([`tilt`]).
     pub(crate) tilted_until: u64,
+    /// The tick the last motion that was not discarded ended (or the last new zero).
+    pub(crate) real_end: u64,
 }
 
 impl Detector {
@@ -708,6 +714,7 @@ impl Detector {
             entered: 0,
             bias_samples: u64::from(cal[0].samples),
             tilted_until: 0,
+            real_end: 0,
         };
         if let Some(l) = s.lift {
             d.lift.refill(&l, &d.stream);
@@ -721,10 +728,12 @@ impl Detector {
         self.state
     }
 
-    /// Whether a motion is held back from delivery: younger than the hold, or held by the
-    /// tilt tests and not yet confirmed or released.
+    /// Whether a motion is held back from delivery: younger than the hold, started on a
+    /// disturbed desk and not yet out of its velocity, or held by the tilt tests and not yet
+    /// confirmed or released.
     pub const fn holds(&self) -> bool {
-        matches!(self.state, State::Moving) && (self.click.hold_left > 0 || self.tilt.held())
+        matches!(self.state, State::Moving)
+            && (self.click.hold_left > 0 || self.tilt.held() || self.motion.unproven)
     }
 
     /// The sample stream was interrupted (a sampling restart): whatever was moving is over,
@@ -809,6 +818,7 @@ impl Detector {
     /// Enters Still: the start tests begin afresh from here.
     pub(crate) fn enter_still(&mut self) {
         self.enter(State::Still);
+        self.real_end = self.stream.ticks();
         self.learn = noise::Learn::default();
         self.tilt = tilt::Tilt::default();
         self.rest.reset(self.stream.ticks());

@@ -30,12 +30,15 @@
 //! machine's vibration raises the thresholds by what it can fake, and no more.
 //!
 //! A knock rings and decays within a few of its periods, while `P` remembers it for several
-//! of its own time constants: the allowance would blind the tests long after the ring is
-//! gone. So `A` is also bounded by what a short average (40 ms, a quarter of the long one)
-//! can be sure of: its upper bound, `P_short` raised by its own margin (3 relative sd of an
-//! average of `2^(k-2) / 2` squares), less `E`. A weak, steady vibration stays within both
-//! bounds (the long one measures it, the short one cannot rule it out); a decaying ring
-//! leaves the short bound within tens of milliseconds.
+//! of its own time constants; a machine that starts up is felt by `P` only after a fraction
+//! of them. So a short average (40 ms, a quarter of the long one) bounds `A` both ways: its
+//! upper bound (`P_short` raised by its own margin, 3 relative sd of an average of
+//! `2^(k-2) / 2` squares, less `E`) caps it, and its lower bound (`P_short` lowered by that
+//! margin) raises it. A weak, steady vibration stays between the two (the long average
+//! measures it, the short one can neither confirm nor rule it out); a decaying ring leaves
+//! the upper bound within tens of milliseconds. And a tick whose residual alone stands out of
+//! the noise by the same margin's number of sd (3; a **burst**: a knock's first ring, a machine starting up
+//! faster than any average follows) sets `A` at least to that residual's size for that tick.
 //!
 //! A brisk stroke's own content near 10 Hz leaks into the residual (the filter passes 10 Hz
 //! at about 0.6): its disturbance is counted too, which only widens the tests while it lasts.
@@ -186,6 +189,9 @@ pub struct Disturbance {
     pub(crate) amp_q16: u64,
     /// Its frequency bin, `0..BINS`.
     pub(crate) bin: u8,
+    /// Whether the last tick's residual alone stood out of the noise (the margin's number of
+    /// its sd): a disturbance the averages have not caught up with yet.
+    pub(crate) burst: bool,
 }
 
 /// `Var(sum_i c_i s[t-i])` for tick sums with covariances `cov(lag)` (zero beyond lag 3).
@@ -237,6 +243,7 @@ impl Disturbance {
             last: 0,
             amp_q16: 0,
             bin: 0,
+            burst: false,
         }
     }
 
@@ -260,6 +267,15 @@ impl Disturbance {
     pub(crate) fn update(&mut self, s: &DriftSettings, stream: &TickStream, axis: usize) {
         let r = stream.band_residual(s, axis);
         let diff = r - core::mem::replace(&mut self.last, r);
+        let r2_q32 = u128::from(r.unsigned_abs()).pow(2) << 32;
+        self.burst = r2_q32 > self.expect_q32[0].saturating_mul(u128::from(s.burst_k2_q8)) >> 8;
+        let l = u128::from(s.band[0] * s.band[1]);
+        // A burst's own amplitude, until the averages catch up (Q16 LSB per tick sum).
+        let burst_q16 = if self.burst {
+            ((u128::from(r.unsigned_abs()) << 16) / l) as u64
+        } else {
+            0
+        };
         let k = s.dist_shift;
         for ((p, x), k) in self.power.iter_mut().zip([r, diff, r]).zip([k, k, k - 2]) {
             let x2 = u128::from(x.unsigned_abs()).pow(2); // < 2^86
@@ -271,18 +287,20 @@ impl Disturbance {
         }
         let margin = |e: u128| e.saturating_mul(u128::from(s.dist_margin_q8)) >> 8;
         let p = self.power.map(|p| p << 32);
-        if p[0] <= margin(self.expect_q32[0]) {
-            self.amp_q16 = 0;
+        let e0 = self.expect_q32[0];
+        // The short average's bounds on the excess: P_short (1 -+ m) - E, m = margin - 1.
+        let m = u128::from(s.dist_margin_short_q8 - 256);
+        let upper = (p[2].saturating_mul(256 + m) >> 8).saturating_sub(e0);
+        let lower = (p[2].saturating_mul(256u128.saturating_sub(m)) >> 8).saturating_sub(e0);
+        let long = if p[0] > margin(e0) { p[0] - e0 } else { 0 };
+        let excess = long.max(lower).min(upper);
+        if excess == 0 {
+            self.amp_q16 = burst_q16;
             self.bin = 0;
             return;
         }
-        let excess = p[0] - self.expect_q32[0];
-        // The short average's upper bound on the excess.
-        let upper = (p[2].saturating_mul(u128::from(s.dist_margin_short_q8)) >> 8)
-            .saturating_sub(self.expect_q32[0]);
-        let l = u128::from(s.band[0] * s.band[1]);
         // sqrt(2 (P - E) 2^32) / (L1 L2): Q16 LSB per tick sum.
-        self.amp_q16 = (crate::math::isqrt_u128(2 * excess.min(upper)) / l) as u64;
+        self.amp_q16 = ((crate::math::isqrt_u128(2 * excess) / l) as u64).max(burst_q16);
         // The frequency: the difference's excess (discounted by its margin) over the
         // residual's, against each bin's edge.
         let ratio_q16 = (p[1].saturating_sub(margin(self.expect_q32[1])) >> 16)

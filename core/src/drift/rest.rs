@@ -251,9 +251,13 @@ impl Detector {
         let latent = self.take_latent(s);
         // A disturbed device's velocity at the onset is the disturbance's, not zero: the one
         // whose integral over the rest before averages to zero (ticks.rs). Only from rest.
-        let disturbed = self.disturbance[..2].iter().any(|d| d.amp_q16 > 0);
+        let disturbed = self.disturbance[..2].iter().any(|d| d.amp_q16 > 0 || d.burst);
         let pre = u64::from(s.pre_blocks) * u64::from(s.block);
-        let from_rest = self.state == State::Still && self.age() >= (blocks + 1) * u64::from(s.block) + pre;
+        // At rest since before the pre-window: still, or only after motions that were
+        // discarded (the disturbance's own).
+        let since = self.stream.ticks() - self.real_end;
+        let from_rest =
+            self.state == State::Still && since >= (blocks + 1) * u64::from(s.block) + pre;
         let shaking = if disturbed && from_rest {
             self.stream.rest_velocity(blocks, s.pre_blocks, bias)
         } else {
@@ -264,7 +268,11 @@ impl Detector {
             + u64::from(self.stream.samples_in_block());
         self.motion
             .begin(latent.map_or(samples, |(_, since)| since.max(samples)));
-        self.click.begin_motion(s, samples, step);
+        self.motion.unproven = disturbed;
+        // The hold runs from the onset itself, not from the start of its block.
+        let t = self.stream.ticks();
+        let age = (t - onset.min(t)) * u64::from(s.tick) + u64::from(self.stream.partial());
+        self.click.begin_motion(s, age.min(samples), step);
         self.count_runs(s, blocks, bias);
         Action::Start {
             blocks: blocks as usize,

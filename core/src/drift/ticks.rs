@@ -202,6 +202,11 @@ impl TickStream {
         self.blocks_done
     }
 
+    /// Samples in the current tick so far.
+    pub(crate) const fn partial(&self) -> u32 {
+        self.cur_n
+    }
+
     /// Samples since the last complete block (its closed ticks and the current tick so far).
     pub(crate) fn samples_in_block(&self) -> u32 {
         self.cur_block[0].n + self.cur_n

@@ -262,6 +262,21 @@ pub enum Motion {
         /// Horizontal direction [rad].
         dir: f64,
     },
+    /// A continuous figure from `t0` over `dur`: `turns` turns of a circle of radius `r`
+    /// (from its start point, `(cos phi - 1, sin phi) r`) or of a figure eight (Gerono's
+    /// lemniscate, `(sin phi, sin 2 phi / 2) r`), the angle `phi` along a minimum-jerk step.
+    Figure {
+        /// Start [s].
+        t0: f64,
+        /// Duration [s].
+        dur: f64,
+        /// A figure eight, or a circle.
+        eight: bool,
+        /// Radius [m].
+        r: f64,
+        /// Turns.
+        turns: f64,
+    },
     /// A machine's vibration of `amp` [m/s^2] at `f` from `t0`, on Z (`all` false) or on
     /// every axis with phases `phase`.
     Vibration {
@@ -337,6 +352,26 @@ impl Motion {
                 [0.0, 0.0, z]
             }
             Motion::Tilt { .. } => [0.0; 3],
+            Motion::Figure {
+                t0,
+                dur,
+                eight,
+                r,
+                turns,
+            } => {
+                let u = (t - t0) / dur;
+                if !(0.0..=1.0).contains(&u) {
+                    return [0.0; 3];
+                }
+                let total = std::f64::consts::TAU * turns;
+                // phi = total step(u): phi' = total step'(u) / dur, phi'' = total step''(u) / dur^2.
+                let (w, al) = (
+                    total * step_rate(u) / dur,
+                    total * step_accel(u) / (dur * dur),
+                );
+                let [_, d1, d2] = figure(eight, r, total * step(u));
+                [d2[0] * w * w + d1[0] * al, d2[1] * w * w + d1[1] * al, 0.0]
+            }
             Motion::Knock {
                 t0,
                 peak,
@@ -424,6 +459,7 @@ impl Motion {
                 ..
             } => t0 + rise + air + fall,
             Motion::Knock { t0, f, periods, .. } => t0 + (6.0 * periods).max(2.0) / f,
+            Motion::Figure { t0, dur, .. } => t0 + dur,
             Motion::Vibration { .. } => f64::INFINITY,
         }
     }
@@ -446,6 +482,22 @@ impl Motion {
             }
             _ => [0.0; 2],
         }
+    }
+}
+
+/// A figure's position `p(phi)` and its derivatives `p'`, `p''` in `phi` [m], for a circle
+/// or a figure eight of radius `r` ([`Motion::Figure`]).
+pub fn figure(eight: bool, r: f64, phi: f64) -> [[f64; 2]; 3] {
+    if eight {
+        let (s, c, s2, c2) = (phi.sin(), phi.cos(), (2.0 * phi).sin(), (2.0 * phi).cos());
+        [
+            [r * s, r * s2 / 2.0],
+            [r * c, r * c2],
+            [-r * s, -2.0 * r * s2],
+        ]
+    } else {
+        let (s, c) = (phi.sin(), phi.cos());
+        [[r * (c - 1.0), r * s], [-r * s, r * c], [-r * c, -r * s]]
     }
 }
 
@@ -553,6 +605,33 @@ mod tests {
         // Mid-glide at the glide speed.
         let (v, _) = integrate(&m, 0.9, 0);
         assert!((v - 0.03).abs() < 1e-9, "{v}");
+    }
+
+    #[test]
+    fn a_figure_closes_and_ends_at_rest() {
+        for eight in [false, true] {
+            let m = Motion::Figure {
+                t0: 0.0,
+                dur: 2.0,
+                eight,
+                r: 0.03,
+                turns: 2.0,
+            };
+            for axis in 0..2 {
+                let (v, s) = integrate(&m, 2.0, axis);
+                assert!(v.abs() < 1e-7 && s.abs() < 1e-7, "{eight} {axis}: {v} {s}");
+            }
+            // Half way along a circle's first turn (phi = pi): 2 r to the left of the start.
+            let half = Motion::Figure {
+                t0: 0.0,
+                dur: 2.0,
+                eight: false,
+                r: 0.03,
+                turns: 1.0,
+            };
+            let (_, x) = integrate(&half, 1.0, 0);
+            assert!((x + 0.06).abs() < 1e-6, "{x}");
+        }
     }
 
     #[test]

@@ -977,3 +977,237 @@ pub fn table(fams: &[Family]) -> String {
     }
     out
 }
+
+/// The long-rest benchmark on one sensor (target 6).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LongRest {
+    /// The sensor.
+    pub sensor: String,
+    /// Devices, each at rest for `hours_each`.
+    pub devices: usize,
+    /// Hours each device rested.
+    pub hours_each: f64,
+    /// Motions started at rest (false starts), over all devices.
+    pub false_starts: u64,
+    /// Devices whose cursor moved at all.
+    pub devices_moved: usize,
+    /// Counts moved, over all devices (|x| + |y|).
+    pub counts: i64,
+    /// False starts the start tests' Gaussian run lengths predict for these device-hours.
+    pub predicted_false_starts: f64,
+}
+
+/// A device of `spec` at rest for `hours`: (motions started, counts moved).
+fn rest_device(spec: SensorSpec, drift: Option<Drift>, hours: f64, seed: u64) -> (u64, i64) {
+    let base = Config {
+        drift,
+        ..Config::default()
+    };
+    let dev = Device::calibrated(spec, base, seed);
+    let mut t = dev.tracker;
+    let mut sensor = dev.sensor;
+    let mut rng = noise::rng(seed ^ 0x10_4E57);
+    let before = t.counters().motions;
+    let n = (hours * 3600.0 * spec.fs) as u64;
+    let poll = (spec.fs / 1000.0).max(1.0) as u64;
+    let mut counts = 0i64;
+    for i in 0..n {
+        t.feed(&[sensor.codes([0.0; 3], [0.0; 3], [0.0; 2], &mut rng)]);
+        if i % poll == poll - 1 {
+            let c = t.take_counts();
+            counts += i64::from(c[0]).abs() + i64::from(c[1]).abs();
+        }
+    }
+    (u64::from(t.counters().motions - before), counts)
+}
+
+/// The long-rest benchmark: `hours` device-hours at rest on the board's ADXL335 (with its
+/// bias walk) and on a quieter sensor (100 ug/sqrt(Hz) on the 12-bit ADC), each split over 20
+/// devices.
+pub fn long_rests(drift: Option<Drift>, hours: f64, seed: u64) -> Vec<LongRest> {
+    let quiet = SensorSpec {
+        nd_ug: 100.0,
+        ..SensorSpec::ADXL335
+    };
+    let devices = 20usize;
+    let each = hours / devices as f64;
+    [("ADXL335, 300 ug/sqrt(Hz), 12 bits", SensorSpec::ADXL335), ("100 ug/sqrt(Hz), 12 bits", quiet)]
+        .into_iter()
+        .map(|(name, spec)| {
+            let runs: Vec<(u64, i64)> = (0..devices as u64)
+                .into_par_iter()
+                .map(|k| rest_device(spec, drift, each, seed.wrapping_mul(977).wrapping_add(k)))
+                .collect();
+            let interval_s = config_for(
+                spec,
+                Config {
+                    drift,
+                    ..Config::default()
+                },
+            )
+            .validate()
+            .ok()
+            .and_then(|s| s.drift().map(imu_core::drift::DriftSettings::false_start_interval_s))
+            .unwrap_or(f64::INFINITY);
+            LongRest {
+                sensor: name.into(),
+                devices,
+                hours_each: each,
+                false_starts: runs.iter().map(|r| r.0).sum(),
+                devices_moved: runs.iter().filter(|r| r.1 > 0).count(),
+                counts: runs.iter().map(|r| r.1).sum(),
+                predicted_false_starts: hours * 3600.0 / interval_s,
+            }
+        })
+        .collect()
+}
+
+/// The long-rest benchmark as a table.
+pub fn long_rest_table(r: &[LongRest]) -> String {
+    let mut out = format!(
+        "{:<36} {:>13} {:>12} {:>12} {:>8} {:>8}\n",
+        "sensor", "device-hours", "false starts", "predicted", "moved", "counts"
+    );
+    for x in r {
+        out += &format!(
+            "{:<36} {:>13.1} {:>12} {:>12.4} {:>8} {:>8}\n",
+            x.sensor,
+            x.devices as f64 * x.hours_each,
+            x.false_starts,
+            x.predicted_false_starts,
+            x.devices_moved,
+            x.counts
+        );
+    }
+    out + "target 6: 0 counts (moved 0, counts 0)\n"
+}
+
+/// A constant varied by the sensitivity table: its name and how to scale it.
+struct Knob {
+    name: &'static str,
+    scale: fn(&mut Drift, f64),
+}
+
+/// Every constant of drift control: the hand limits and budgets of [`Drift`], and the
+/// statistics' [`imu_core::drift::Tuning`].
+fn knobs() -> Vec<Knob> {
+    vec![
+        Knob { name: "false_start_hours", scale: |d, f| d.false_start_hours *= f },
+        Knob { name: "hold_s", scale: |d, f| d.hold_s *= f },
+        Knob { name: "knock_hz", scale: |d, f| d.knock_hz *= f },
+        Knob { name: "stroke_max_s", scale: |d, f| d.stroke_max_s *= f },
+        Knob { name: "glide_max_s", scale: |d, f| d.glide_max_s *= f },
+        Knob { name: "lift_rise_s", scale: |d, f| d.lift_rise_s = d.lift_rise_s.map(|r| r * f) },
+        Knob { name: "mount_tilt_deg", scale: |d, f| d.mount_tilt_deg *= f },
+        Knob { name: "bias_tau_s", scale: |d, f| d.bias_tau_s = d.bias_tau_s.map(|r| r * f) },
+        Knob { name: "tuning.k_sd", scale: |d, f| d.tuning.k_sd *= f },
+        Knob { name: "tuning.chi2", scale: |d, f| d.tuning.chi2 *= f },
+        Knob { name: "tuning.kappa[slow]", scale: |d, f| d.tuning.kappa[0] *= f },
+        Knob { name: "tuning.kappa[fast]", scale: |d, f| d.tuning.kappa[1] *= f },
+        Knob { name: "tuning.lobe_sd", scale: |d, f| d.tuning.lobe_sd *= f },
+        Knob { name: "tuning.sub_s[short]", scale: |d, f| d.tuning.sub_s[0] *= f },
+        Knob { name: "tuning.sub_s[long]", scale: |d, f| d.tuning.sub_s[1] *= f },
+        Knob { name: "tuning.hold_fraction", scale: |d, f| d.tuning.hold_fraction *= f },
+        Knob { name: "tuning.fade_fraction", scale: |d, f| d.tuning.fade_fraction *= f },
+        Knob { name: "tuning.confirm_fraction", scale: |d, f| d.tuning.confirm_fraction *= f },
+        Knob { name: "tuning.quiet_s", scale: |d, f| d.tuning.quiet_s *= f },
+        Knob { name: "tuning.disturbance_s", scale: |d, f| d.tuning.disturbance_s *= f },
+        Knob { name: "tuning.disturbance_sigmas", scale: |d, f| d.tuning.disturbance_sigmas *= f },
+        Knob { name: "tuning.lift_window", scale: |d, f| d.tuning.lift_window *= f },
+        Knob { name: "tuning.q_inflation_sd", scale: |d, f| d.tuning.q_inflation_sd *= f },
+    ]
+}
+
+/// The families the sensitivity table scores (every one of the board's but the minute of
+/// vibration at rest), and each family's score: the fraction within for the stroke families,
+/// the target's own figure for the others.
+const SCORED: [Kind; 9] = [
+    Kind::Strokes,
+    Kind::Drags,
+    Kind::Lifts,
+    Kind::PadTilts,
+    Kind::AfterTilt,
+    Kind::Knocks,
+    Kind::KnockyStrokes,
+    Kind::VibrationZ,
+    Kind::VibrationAll,
+];
+
+/// A family's score for the sensitivity table: `within` [%] for the stroke families and
+/// drags, the largest re-placement [mm] for lifts, the median [mm] for pad tilts and knocks.
+fn score(f: &Family) -> f64 {
+    match f.name.as_str() {
+        "lifts" => f.error_mm.max,
+        "pad-tilts" | "knocks" => f.error_mm.median,
+        _ => f.within * 100.0,
+    }
+}
+
+/// One row of the sensitivity table: a constant at half and at twice its value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sensitivity {
+    /// The constant.
+    pub name: String,
+    /// Per scored family, its score at half the value and at twice (`None`: the value is
+    /// outside the constant's valid range).
+    pub half: Vec<Option<f64>>,
+    /// The same at twice the value.
+    pub twice: Vec<Option<f64>>,
+}
+
+/// The sensitivity table: the scored families at the defaults (the first row), then at half
+/// and twice each constant, `z.sweep_trials` trials a family.
+pub fn sensitivity(z: Sizes, seed: u64) -> Vec<Sensitivity> {
+    let n = z.sweep_trials;
+    let scores = |d: Drift| -> Option<Vec<f64>> {
+        config_for(
+            SensorSpec::ADXL335,
+            Config {
+                drift: Some(d),
+                ..Config::default()
+            },
+        )
+        .validate()
+        .ok()?;
+        let dev = board_device(Some(d), seed);
+        let avg = averaging_s(Some(d));
+        Some(SCORED.iter().map(|&k| score(&family(k, &dev, n, seed, avg))).collect())
+    };
+    let base = scores(Drift::default()).unwrap_or_default();
+    let mut out = vec![Sensitivity {
+        name: "defaults".into(),
+        half: base.iter().map(|&v| Some(v)).collect(),
+        twice: base.iter().map(|&v| Some(v)).collect(),
+    }];
+    for k in knobs() {
+        let at = |f: f64| {
+            let mut d = Drift::default();
+            (k.scale)(&mut d, f);
+            scores(d).map_or(vec![None; SCORED.len()], |v| v.into_iter().map(Some).collect())
+        };
+        out.push(Sensitivity {
+            name: k.name.into(),
+            half: at(0.5),
+            twice: at(2.0),
+        });
+    }
+    out
+}
+
+/// The sensitivity table as text: per constant and family, the score at half / at twice.
+pub fn sensitivity_table(r: &[Sensitivity]) -> String {
+    let mut out = format!("{:<28}", "constant (x0.5 / x2)");
+    for k in SCORED {
+        out += &format!(" {:>15}", k.name());
+    }
+    out += "\n";
+    let cell = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.1}"));
+    for row in r {
+        out += &format!("{:<28}", row.name);
+        for (h, t) in row.half.iter().zip(&row.twice) {
+            out += &format!(" {:>15}", format!("{} / {}", cell(*h), cell(*t)));
+        }
+        out += "\n";
+    }
+    out + "scores: within [%] (strokes, drags, after-tilt, knocky-strokes, vibration), largest re-placement [mm] (lifts), median [mm] (pad-tilts, knocks); -: invalid at that value\n"
+}

@@ -367,9 +367,17 @@ pub struct Args {
     /// The traced device's ADC resolution [bits].
     #[arg(long, requires = "trace")]
     pub bits: Option<u8>,
+    /// The long-rest benchmark (target 6): this many device-hours at rest on each of the two
+    /// sensors (the ADXL335 with its bias walk, and 100 ug/sqrt(Hz) on 12 bits), `0.01..=10000`.
+    #[arg(long, value_name = "HOURS")]
+    pub long_rest: Option<f64>,
+    /// The sensitivity table: every target at half and at twice each constant.
+    #[arg(long)]
+    pub sensitivity: bool,
 }
 
-/// Runs `cargo lab mouse`: the desk scenes, then the pointing scenes.
+/// Runs `cargo lab mouse`: the desk scene, the hand model's families, circles, the map; or
+/// one of `--trace`, `--families`, `--long-rest`, `--sensitivity`.
 ///
 /// # Errors
 /// A bad argument; an unwritable `--out`.
@@ -395,40 +403,73 @@ pub fn run(a: &Args) -> super::Outcome {
         };
         return Ok(families::trace(kind, Some(Drift::default()), spec, a.seed, k));
     }
-    if a.families {
-        let z = if a.quick {
-            families::Sizes::QUICK
-        } else {
-            families::Sizes::FULL
-        };
-        let f = families::all(Some(Drift::default()), z, a.seed);
-        if a.json {
-            return super::json(&serde_json::to_value(&f)?);
+    let z = if a.quick {
+        families::Sizes::QUICK
+    } else {
+        families::Sizes::FULL
+    };
+    if let Some(hours) = a.long_rest {
+        if !(hours.is_finite() && (0.01..=10_000.0).contains(&hours)) {
+            return Err(super::Error::arg("long-rest", hours, "0.01..=10000 device-hours"));
         }
-        return Ok(families::table(&f));
+        let bar = super::progress(0, a.json, "");
+        bar.set_message("long rest");
+        let r = families::long_rests(Some(Drift::default()), hours, a.seed);
+        bar.finish_and_clear();
+        if a.json {
+            return super::json(&serde_json::to_value(&r)?);
+        }
+        return Ok(families::long_rest_table(&r));
+    }
+    if a.sensitivity {
+        let bar = super::progress(0, a.json, "");
+        bar.set_message("sensitivity");
+        let r = families::sensitivity(z, a.seed);
+        bar.finish_and_clear();
+        if a.json {
+            return super::json(&serde_json::to_value(&r)?);
+        }
+        return Ok(families::sensitivity_table(&r));
     }
     let bar = super::progress(0, a.json, "");
-    bar.set_message("desk scenes");
+    bar.set_message("hand model families");
+    let fams = families::all(Some(Drift::default()), z, a.seed);
+    if a.families {
+        bar.finish_and_clear();
+        if a.json {
+            return super::json(&serde_json::to_value(&fams)?);
+        }
+        return Ok(families::table(&fams));
+    }
+    bar.set_message("desk scene");
     let report = compare(a.strokes, a.rest_minutes, a.seed);
-    let sizes = if a.quick {
-        pointing::Sizes::quick(a.rest_minutes)
+    bar.set_message("circles and the map");
+    let p = if a.quick {
+        pointing::Sizes::QUICK
     } else {
-        pointing::Sizes::full(a.rest_minutes)
+        pointing::Sizes::FULL
     };
-    bar.set_message("pointing scenes");
-    let scenes = pointing::scenes(Some(Drift::default()), sizes, a.seed);
+    let circles = pointing::continuous(Some(Drift::default()), p.figures, a.seed);
+    let (l, d, t) = p.map;
+    let m = pointing::map(Some(Drift::default()), l, d, t, a.seed);
     bar.finish_and_clear();
     let path = super::write_out(&a.out, "path.svg", &path_svg(12, a.seed))?;
-    let map = super::write_out(&a.out, "map.svg", &pointing::map_svg(&scenes.map))?;
+    let map = super::write_out(&a.out, "map.svg", &pointing::map_svg(&m))?;
     if a.json {
         let mut v = serde_json::to_value(&report)?;
-        v["scenes"] = serde_json::to_value(&scenes)?;
+        v["families"] = serde_json::to_value(&fams)?;
+        v["circles"] = serde_json::to_value(&circles)?;
+        v["map"] = serde_json::to_value(&m)?;
         return super::json(&v);
     }
     Ok(format!(
-        "{}\n{}plots: {}, {}",
+        "{}\n{}\ncircles and figure eights ({}): close within {:.2} % med ({:.2} % max); travel {:.3}x (target: <= 5 % med)\nplots: {}, {}",
         table(&report),
-        pointing::table(&scenes),
+        families::table(&fams),
+        circles.figures,
+        circles.closure_pct.median,
+        circles.closure_pct.max,
+        circles.travel_ratio.median,
         path.display(),
         map.display()
     ))
