@@ -490,28 +490,36 @@ fn velocity_is_zero_whenever_drift_control_is_not_integrating() {
 #[test]
 fn a_brisk_stroke_that_a_tilted_mount_puts_on_z_is_not_a_lift() {
     // The sensor sits 10 degrees off level in the case: a sixth of X's acceleration shows on
-    // Z. A brisk stroke of 100 LSB (2.4 m/s^2, 6 mm) puts 1 mm of displacement on Z, a lift's
-    // on its own; the mounting allowance (a sin(12 degrees) share of the horizontal
-    // displacement) keeps it a stroke. Control: with no allowance it is taken for a lift and
-    // not tracked.
-    let stroke = |i: usize| {
-        let x: i32 = match i {
-            3000..=3149 => 100,
-            3150..=3299 => -100,
-            _ => 0,
-        };
-        [(2048 + x) as u16, 2048, (2048 + x / 6) as u16]
-    };
+    // Z. A brisk minimum-jerk stroke (0.2 s, peak 100 LSB = 2.4 m/s^2: 16.6 mm) puts 2.8 mm of
+    // displacement on Z, a lift's on its own; the mounting allowance (a sin(12 degrees) share
+    // of the horizontal displacement) keeps it a stroke. Control: with no allowance it is taken
+    // for a lift and not tracked.
     let lsb = Config::default().m_s2_per_lsb;
-    let want = 100.0 * lsb * 0.05 * 0.05 / 0.0254 * 800.0; // a t1^2: 189 counts
+    let (dur, peak) = (0.2, 100.0);
+    let d = peak * lsb * dur * dur / 5.7735; // peak = 5.7735 D / T^2
+    let stroke = |i: usize| {
+        let u = (i as f64 - 3000.0) / 3000.0 / dur;
+        let a = if (0.0..=1.0).contains(&u) {
+            d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u) / lsb
+        } else {
+            0.0
+        };
+        [
+            (2048.0 + a).round() as u16,
+            2048,
+            (2048.0 + a / 6.0).round() as u16,
+        ]
+    };
+    let want = d / 0.0254 * 800.0;
     for (ratio, tracked) in [(12.0, true), (0.0, false)] {
         let mut t = tracker(Some(Drift {
             mount_tilt_deg: ratio,
             ..Drift::default()
         }));
         let a = run(&mut t, 9000, stroke);
+        // Rounding the codes to whole LSB: a few counts.
         assert_eq!(
-            (a[0] as f64 - want).abs() < 10.0,
+            (a[0] as f64 - want).abs() < 0.02 * want,
             tracked,
             "ratio {ratio}: {a:?} vs {want}"
         );

@@ -33,7 +33,7 @@
 //! time grows with the sector: hundreds of milliseconds for 16 KiB, seconds for 128 KiB
 //! (DS10314's flash characteristics, at the x8 parallelism the HAL uses; not measured here,
 //! no board). An erase happens only when the store moves to its other page, once in
-//! 62 saves (a record is 245 bytes, 256 in the map with its header).
+//! 76 saves (a record is 200 bytes, 22 keys; `app/tests/store.rs`).
 
 use stm32f4xx_hal::adc::config::{Clock as AdcClock, SampleTime};
 
