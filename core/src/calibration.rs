@@ -157,7 +157,7 @@ impl Calibrator {
         if self.n.is_multiple_of(self.tick) {
             let t = self.tick_sum;
             self.ticks_sum += t; // <= 2^40
-            // Products with the ticks 0..=3 back: each <= 2^24 * 2^60 in all.
+                                 // Products with the ticks 0..=3 back: each <= 2^24 * 2^60 in all.
             self.ticks_lag[0] += u128::from(t) * u128::from(t);
             for lag in 1..=3usize {
                 if self.ticks as usize >= lag {
@@ -225,6 +225,7 @@ impl Calibrator {
     ///
     /// with `P_l = sum t[i] t[i-l]`, `F_l` the sum of the first `l` ticks and `L_l` of the
     /// last `l`. Every term is below `2^110`. `None` with fewer than 4 ticks.
+    #[inline(never)] // cold: once per calibration; inlined, it is copied per use
     fn centred_lags(&self) -> Option<[i128; 4]> {
         let k = i128::from(self.ticks);
         if k < 4 {
@@ -244,6 +245,7 @@ impl Calibrator {
     /// `floor(num 2^32 / (k^3 D))`, saturating at `u64::MAX`, for the centred lag sums:
     /// the quotient's whole part shifted, plus the remainder's fraction (rem < den = k^3 D
     /// <= 2^72, since k D <= 2^24, so rem 2^32 fits). Negative `num` gives 0.
+    #[inline(never)] // cold: once per calibration; inlined, it is copied per use
     fn per_sample_q32(&self, num: i128) -> u64 {
         let k = i128::from(self.ticks);
         let den = k * k * k * i128::from(self.tick);

@@ -10,10 +10,10 @@
 use core::fmt;
 
 use crate::calibration::Calibrator;
+use crate::drift::{Drift, DriftError, DriftSettings};
 use crate::integrator::Scheme;
 use crate::lowpass::Lowpass;
 use crate::readout::Readout;
-use crate::drift::{Drift, DriftError, DriftSettings};
 
 /// Lowest accepted sampling rate [Hz].
 pub const FS_MIN_HZ: u32 = 1;

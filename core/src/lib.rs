@@ -50,6 +50,7 @@ pub use axis::Axis;
 pub use button::{ButtonEvent, Debouncer};
 pub use calibration::{Calibration, CalibrationError, Calibrator};
 pub use config::{Config, ConfigError, Settings};
+pub use drift::{Drift, DriftError, State as DriftState};
 pub use hid::{MouseReport, Reporter};
 pub use indicator::{Indicator, LastCalibration, Link};
 pub use integrator::{BlockSums, IntegratorState, Scheme};
@@ -58,7 +59,6 @@ pub use lowpass::{Lowpass, LowpassState};
 pub use power::{Power, PowerAction};
 pub use profile::{AxisMap, Key, Profile, ProfileError};
 pub use readout::{Readout, ReadoutState};
-pub use drift::{Drift, DriftError, State as DriftState};
 pub use tracker::{Counters, Event, Phase, Tracker, AXES};
 
 /// Number of fractional bits of the bias-free acceleration `c` fed to the integrator

@@ -27,8 +27,8 @@
 use core::fmt;
 
 use crate::config::{Config, ConfigError};
-use crate::integrator::Scheme;
 use crate::drift::{Drift, DriftError};
+use crate::integrator::Scheme;
 
 /// Which sensor axis drives the cursor, and in which sense.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -97,15 +97,25 @@ struct Shadow {
     states: [IntegratorState; AXES],
 }
 
+/// What the tracker holds for its phase: the calibration window's accumulators, or drift
+/// control's detector. Never both (they share the memory: the detector is most of the
+/// tracker's RAM, the accumulators 0.5 KiB).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // the point: the small variant lives in the large one's room
+enum Stage {
+    /// Collecting a calibration window, one accumulator per axis.
+    Calibrating([Calibrator; AXES]),
+    /// Tracking; the detector is `None` without drift control.
+    Tracking(Option<Detector>),
+}
+
 /// Calibration and tracking of one device.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tracker {
     settings: Settings,
-    phase: Phase,
+    stage: Stage,
     axes: [Axis; AXES],
-    calibrators: [Calibrator; AXES],
     counters: Counters,
-    detector: Option<Detector>,
     shadow: Option<Shadow>,
 }
 
@@ -118,11 +128,9 @@ impl Tracker {
         let settings = config.validate()?;
         Ok(Self {
             settings,
-            phase: Phase::Calibrating,
+            stage: Stage::Calibrating([settings.calibrator(); AXES]),
             axes: [Axis::default(); AXES],
-            calibrators: [settings.calibrator(); AXES],
             counters: Counters::default(),
-            detector: None,
             shadow: None,
         })
     }
@@ -143,10 +151,8 @@ impl Tracker {
 
     /// Stops all motion and starts a new calibration window.
     pub fn recalibrate(&mut self) {
-        self.phase = Phase::Calibrating;
-        self.detector = None;
+        self.stage = Stage::Calibrating([self.settings.calibrator(); AXES]);
         self.shadow = None;
-        self.calibrators = [self.settings.calibrator(); AXES];
         for axis in &mut self.axes {
             axis.stop();
         }
@@ -157,20 +163,20 @@ impl Tracker {
     pub fn feed(&mut self, block: &[[u16; AXES]]) -> Option<Event> {
         let mut event = None;
         let mut rest = block;
-        while self.phase == Phase::Calibrating {
+        while let Stage::Calibrating(calibrators) = &mut self.stage {
             let Some((sample, later)) = rest.split_first() else {
                 return event;
             };
             rest = later;
             self.counters.samples += 1;
-            for (cal, &code) in self.calibrators.iter_mut().zip(sample) {
+            for (cal, &code) in calibrators.iter_mut().zip(sample) {
                 cal.push(AdcCode(code));
             }
-            if self.calibrators[0].is_full() {
+            if calibrators[0].is_full() {
                 event = Some(self.finish_calibration());
             }
         }
-        if self.detector.is_none() {
+        if self.detector().is_none() {
             // Without drift control nothing decides per sample: the block goes through each
             // axis in one pass.
             self.track_block(rest);
@@ -196,12 +202,15 @@ impl Tracker {
             long_run_var_q32: 0,
             tick_lags_q32: [0; 3],
         }; AXES];
-        for (i, cal) in self.calibrators.iter_mut().enumerate() {
+        let Stage::Calibrating(calibrators) = &mut self.stage else {
+            unreachable!("finish_calibration is called only while calibrating")
+        };
+        for (i, cal) in calibrators.iter_mut().enumerate() {
             match cal.finish() {
                 Ok(r) => results[i] = r,
                 Err(error) => {
                     self.counters.rejected_windows += 1;
-                    self.calibrators = [self.settings.calibrator(); AXES];
+                    *calibrators = [self.settings.calibrator(); AXES];
                     return Event::Rejected {
                         axis: i as u8,
                         error,
@@ -213,8 +222,7 @@ impl Tracker {
             axis.set_bias_q16(r.bias_q16);
             axis.stop();
         }
-        self.detector = self.settings.drift().map(|d| Detector::new(d, &results));
-        self.phase = Phase::Tracking;
+        self.stage = Stage::Tracking(self.settings.drift().map(|d| Detector::new(d, &results)));
         Event::Calibrated(results)
     }
 
@@ -237,12 +245,22 @@ impl Tracker {
         let Self {
             settings: s,
             axes,
-            detector,
+            stage,
             counters,
             shadow,
-            ..
         } = self;
-        let y: [i64; AXES] = core::array::from_fn(|a| axes[a].filter(s, AdcCode(codes[a])));
+        let detector = match stage {
+            Stage::Tracking(d) => d,
+            Stage::Calibrating(_) => &mut None,
+        };
+        // Spelled out, not `from_fn`: on the Cortex-M4 its drop guard costs more than the
+        // filter (20 instructions a sample).
+        let [ax, ay, az] = axes;
+        let y: [i64; AXES] = [
+            ax.filter(s, AdcCode(codes[0])),
+            ay.filter(s, AdcCode(codes[1])),
+            az.filter(s, AdcCode(codes[2])),
+        ];
         let (Some(ds), Some(det)) = (s.drift(), detector.as_mut()) else {
             integrate_all(axes, s, y);
             return;
@@ -260,12 +278,16 @@ impl Tracker {
             State::Frozen => counters.frozen_samples += 1,
             State::Lifted => {}
         }
-        let bias = axes.each_ref().map(Axis::bias_q16);
-        let velocity = axes.each_ref().map(|a| a.integrator().velocity());
-        let shadow_velocity = shadow
-            .as_ref()
-            .map(|sh| sh.states.each_ref().map(IntegratorState::velocity));
-        let action = det.push(ds, codes, y, bias, velocity, shadow_velocity);
+        let [ax, ay, az] = &*axes;
+        let bias = [ax.bias_q16(), ay.bias_q16(), az.bias_q16()];
+        let velocities = || {
+            let velocity = [ax, ay, az].map(|a| a.integrator().velocity());
+            let shadow = shadow
+                .as_ref()
+                .map(|sh| sh.states.each_ref().map(IntegratorState::velocity));
+            (velocity, shadow)
+        };
+        let action = det.push(ds, codes, y, bias, velocities);
         if det.state() == State::Lifted && matches!(action, Action::Stop | Action::Discard) {
             counters.lifts += 1;
         }
@@ -288,7 +310,7 @@ impl Tracker {
                     bias,
                     states: [IntegratorState::default(); AXES],
                 };
-                if let (Some(det), Some(ds)) = (&self.detector, self.settings.drift()) {
+                if let (Some(det), Some(ds)) = (self.detector(), self.settings.drift()) {
                     let scheme = self.settings.scheme();
                     if let Some(prev) = det.replay_prev(blocks) {
                         for ((st, b), y) in sh.states.iter_mut().zip(bias).zip(prev) {
@@ -353,7 +375,7 @@ impl Tracker {
     /// block so far, the trapezoid primed on the sample before them.
     fn replay(&mut self, blocks: usize) {
         let s = &self.settings;
-        if let (Some(det), Some(ds)) = (&self.detector, s.drift()) {
+        if let (Stage::Tracking(Some(det)), Some(ds)) = (&self.stage, s.drift()) {
             if let Some(prev) = det.replay_prev(blocks) {
                 for (axis, y) in self.axes.iter_mut().zip(prev) {
                     axis.prime(y);
@@ -371,8 +393,7 @@ impl Tracker {
     /// discarded (the click's jolt began before its debounced edge was known), and
     /// integration pauses for the click-freeze time, restarting from zero velocity.
     pub fn button_edge(&mut self) {
-        let (Phase::Tracking, Some(ds), Some(det)) =
-            (self.phase, self.settings.drift(), self.detector.as_mut())
+        let (Some(ds), Stage::Tracking(Some(det))) = (self.settings.drift(), &mut self.stage)
         else {
             return;
         };
@@ -385,7 +406,7 @@ impl Tracker {
     /// integrator's clock stays the hardware's. While calibrating they only count.
     pub fn lost(&mut self, lost: u32) {
         self.counters.lost += u64::from(lost);
-        if self.phase == Phase::Tracking {
+        if self.phase() == Phase::Tracking {
             let last = self.axes.each_ref().map(|a| a.last_code().0);
             for _ in 0..lost {
                 self.track(last);
@@ -400,9 +421,9 @@ impl Tracker {
     /// and drift control starts again from rest. What was integrated before the gap stays.
     pub fn restarted(&mut self, lost: u32) {
         self.counters.lost += u64::from(lost);
-        if self.phase == Phase::Tracking {
+        if let Stage::Tracking(detector) = &mut self.stage {
             self.axes.iter_mut().for_each(Axis::zero_velocity);
-            if let Some(det) = self.detector.as_mut() {
+            if let Some(det) = detector {
                 det.restart();
             }
         }
@@ -417,23 +438,20 @@ impl Tracker {
     /// Drift control's state while tracking (`None` without drift control or while
     /// calibrating).
     pub fn drift_state(&self) -> Option<State> {
-        match self.phase {
-            Phase::Tracking => self.detector.as_ref().map(Detector::state),
-            Phase::Calibrating => None,
-        }
+        self.detector().map(Detector::state)
     }
 
     /// Whether drift control holds a motion back from delivery (younger than its hold, or
     /// held by the tilt tests); `false` without drift control or while calibrating.
     pub fn is_holding(&self) -> bool {
-        self.phase == Phase::Tracking && self.detector.as_ref().is_some_and(Detector::holds)
+        self.detector().is_some_and(Detector::holds)
     }
 
     /// Drains the motion since the last call as whole mouse counts `[x, y, z]`, remainders
     /// carried. Zeros while calibrating, and while drift control holds a new motion back
     /// (younger than its hold; the counts follow once it is older).
     pub fn take_counts(&mut self) -> [i32; AXES] {
-        if self.detector.as_ref().is_some_and(Detector::holds) {
+        if self.detector().is_some_and(Detector::holds) {
             return [0; AXES];
         }
         let settings = &self.settings;
@@ -449,7 +467,18 @@ impl Tracker {
 
     /// The current phase.
     pub const fn phase(&self) -> Phase {
-        self.phase
+        match self.stage {
+            Stage::Calibrating(_) => Phase::Calibrating,
+            Stage::Tracking(_) => Phase::Tracking,
+        }
+    }
+
+    /// Drift control's detector while tracking with drift control.
+    const fn detector(&self) -> Option<&Detector> {
+        match &self.stage {
+            Stage::Tracking(Some(d)) => Some(d),
+            _ => None,
+        }
     }
 
     /// The validated configuration in use.

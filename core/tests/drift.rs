@@ -187,7 +187,10 @@ fn a_glide_goes_on_while_its_velocity_is_known_and_its_ramp_down_does_not_run_it
     assert_eq!(t.drift_state(), Some(DriftState::Moving), "mid-glide");
     let b = run(&mut t, 6000, |i| glide(i + 9000));
     let total = a[0] + b[0];
-    assert!((total as f64 - want).abs() < 0.02 * want, "{total} vs {want}");
+    assert!(
+        (total as f64 - want).abs() < 0.02 * want,
+        "{total} vs {want}"
+    );
     assert!(t.is_still(), "{:?}", t.drift_state());
     // Control: a stop that takes every velocity for zero cuts the glide at its start.
     let mut cut = tracker(Some(Drift {

@@ -134,7 +134,12 @@ fn strokes_after_a_tilt_arrive() {
         n,
         7,
     );
-    assert!(c.within < f.within, "control {:.3} against {:.3}", c.within, f.within);
+    assert!(
+        c.within < f.within,
+        "control {:.3} against {:.3}",
+        c.within,
+        f.within
+    );
 }
 
 #[test]
@@ -161,7 +166,12 @@ fn strokes_with_knocks_arrive_and_without_the_disturbance_allowance_they_are_los
         n,
         9,
     );
-    assert!(c.within < f.within, "control {:.3} against {:.3}", c.within, f.within);
+    assert!(
+        c.within < f.within,
+        "control {:.3} against {:.3}",
+        c.within,
+        f.within
+    );
 }
 
 #[test]
@@ -214,4 +224,3 @@ fn every_family_has_its_name_and_a_trace() {
     );
     assert!(t.contains("Moving") && t.contains("end: cursor"), "{t}");
 }
-

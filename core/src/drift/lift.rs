@@ -61,6 +61,10 @@ pub struct LiftSettings {
     pub(crate) k2_q8: u64,
     /// Mounting ratio `r` [Q16].
     pub(crate) mount_q16: u64,
+    /// The window's samples cubed, `n^3` (`n = W D`) [samples^3]: below `2^38`.
+    pub(crate) cube: u64,
+    /// `floor(4 n^3 / 3)` [samples^3], the integrated noise's term of the test's variance.
+    pub(crate) cube_4_3: u64,
 }
 
 impl LiftSettings {
@@ -73,6 +77,7 @@ impl LiftSettings {
         mount_tilt_deg: f64,
         hours: f64,
         tick_s: f64,
+        tick: u32,
     ) -> Option<Self> {
         use crate::math::round_to_u64 as round;
         let window = round(window_s / tick_s).max(2) as u32;
@@ -83,11 +88,15 @@ impl LiftSettings {
         let chances = hours * 3600.0 / (f64::from(window) * tick_s);
         let k = super::z_of_tail(0.5 / chances);
         let mount = libm::sin(mount_tilt_deg.clamp(0.0, 30.0).to_radians());
+        // n < RING ticks of at most 100 samples (20 kHz): n^3 < 2^38, 4 n^3 < 2^40.
+        let n = u64::from(window) * u64::from(tick);
         Some(Self {
             window,
             persist,
             k2_q8: round(k * k * 256.0),
             mount_q16: round(mount * 65_536.0),
+            cube: n * n * n,
+            cube_4_3: 4 * n * n * n / 3,
         })
     }
 }
@@ -188,14 +197,15 @@ impl Detector {
     fn vertical_past_bound(&mut self, s: &DriftSettings, l: &LiftSettings, bias: [i64; 3]) -> bool {
         let [x, y, z] = core::array::from_fn(|a| self.displacement2(s, l, a, bias[a]));
         let n = u128::from(l.window) * u128::from(s.tick);
-        // 4/3 q n^3 + q n^4 / N_b, in the squared units of 2 d.
+        // 4/3 q n^3 + q n^4 / N_b, in the squared units of 2 d (the cubes from the settings:
+        // no 128-bit division per tick).
         let q = u128::from(self.noise[2].q_q32);
-        let nb = u128::from(self.bias_samples.max(1));
-        let var = q
-            .saturating_mul(4 * n * n * n / 3)
-            .saturating_add(q.saturating_mul(n * n * n / nb).saturating_mul(n));
-        let sd = crate::math::isqrt_u128(var);
-        let horizontal = (x.unsigned_abs() + y.unsigned_abs()).saturating_mul(u128::from(l.mount_q16)) >> 16;
+        let var = q.saturating_mul(u128::from(l.cube_4_3)).saturating_add(
+            q.saturating_mul(u128::from(l.cube / self.bias_samples.max(1)))
+                .saturating_mul(n),
+        );
+        let horizontal =
+            (x.unsigned_abs() + y.unsigned_abs()).saturating_mul(u128::from(l.mount_q16)) >> 16;
         // A disturbance's velocity at the window's start carried over the window (its start is
         // not at rest when it starts inside a ring), plus its displacement: peak to peak.
         let dz = &self.disturbance[2];
@@ -204,15 +214,21 @@ impl Detector {
         let allow = u128::from(g.displacement)
             .saturating_mul(u128::from(dz.amp_q16))
             .saturating_add(v.saturating_mul(4 * n));
-        let k = crate::math::isqrt_u128(u128::from(l.k2_q8) << 8); // K in Q8
-        let bound = ((k * sd) >> 8)
-            .saturating_add(horizontal)
-            .saturating_add(allow);
+        // |z| > K sd + horizontal + allow, compared in squares: no square root per tick.
+        let past = match z
+            .unsigned_abs()
+            .checked_sub(horizontal.saturating_add(allow))
+        {
+            None | Some(0) => false,
+            Some(e) => e
+                .checked_mul(e)
+                .is_none_or(|e2| e2 > var.saturating_mul(u128::from(l.k2_q8)) >> 8),
+        };
         let sign = z.signum() as i8;
-        if z.unsigned_abs() > bound && (self.lift.above == 0 || sign == self.lift.sign) {
+        if past && (self.lift.above == 0 || sign == self.lift.sign) {
             self.lift.above += 1;
             self.lift.sign = sign;
-        } else if z.unsigned_abs() > bound {
+        } else if past {
             self.lift.above = 1;
             self.lift.sign = sign;
         } else {

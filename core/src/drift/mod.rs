@@ -38,12 +38,14 @@ use crate::calibration::Calibration;
 
 pub mod click;
 pub mod estimator;
+pub mod gains;
 pub mod lift;
 pub mod noise;
 pub mod rest;
 pub mod ticks;
 pub mod tilt;
 
+use gains::{boxcar, max_over};
 use noise::{Disturbance, Noise};
 use ticks::TickStream;
 
@@ -255,10 +257,7 @@ impl Tuning {
         let checks: [(&'static str, bool); 13] = [
             ("k_sd", within(self.k_sd, 1.0, 20.0)),
             ("chi2", within(self.chi2, 1.0, 1e6)),
-            (
-                "kappa",
-                self.kappa.iter().all(|&k| within(k, 0.05, 10.0)),
-            ),
+            ("kappa", self.kappa.iter().all(|&k| within(k, 0.05, 10.0))),
             ("lobe_sd", within(self.lobe_sd, 0.0, 100.0)),
             ("sub_s", self.sub_s.iter().all(|&w| within(w, 0.02, 0.6))),
             ("hold_fraction", within(self.hold_fraction, 0.0, 0.5)),
@@ -266,7 +265,10 @@ impl Tuning {
             ("confirm_fraction", within(self.confirm_fraction, 0.25, 1.5)),
             ("quiet_s", within(self.quiet_s, 0.005, 0.3)),
             ("disturbance_s", within(self.disturbance_s, 0.02, 2.0)),
-            ("disturbance_sigmas", within(self.disturbance_sigmas, 0.0, 20.0)),
+            (
+                "disturbance_sigmas",
+                within(self.disturbance_sigmas, 0.0, 20.0),
+            ),
             ("lift_window", within(self.lift_window, 0.1, 2.0)),
             ("q_inflation_sd", within(self.q_inflation_sd, 0.0, 10.0)),
         ];
@@ -318,27 +320,6 @@ fn cusum_threshold(kappa: f64, arl: f64) -> f64 {
         }
     }
     hi
-}
-
-/// Gain of a boxcar of `n` samples at `x` cycles per sample: `|sin(pi n x) / (n sin(pi x))|`
-/// (1 at `x = 0`).
-fn boxcar(n: u32, x: f64) -> f64 {
-    let s = libm::sin(core::f64::consts::PI * x);
-    if s.abs() < 1e-12 {
-        return 1.0;
-    }
-    (libm::sin(core::f64::consts::PI * f64::from(n) * x) / (f64::from(n) * s)).abs()
-}
-
-/// The largest of `gain(f)` [dimensionless] for `f` from `lo` to `hi` [Hz], on a 0.25 Hz grid.
-fn max_over(lo: f64, hi: f64, gain: impl Fn(f64) -> f64) -> f64 {
-    let mut best = 0.0f64;
-    let mut f = lo;
-    while f <= hi {
-        best = best.max(gain(f));
-        f += 0.25;
-    }
-    best
 }
 
 /// `round(x * 2^16)` for a finite `0 <= x < 2^47`.
@@ -471,6 +452,7 @@ impl Drift {
                     self.mount_tilt_deg,
                     self.false_start_hours,
                     tick_s,
+                    tick,
                 )
                 .ok_or(DriftError::Lift)?,
             ),
@@ -507,10 +489,28 @@ impl Drift {
             self.knock_hz * libm::pow(hi / self.knock_hz, k as f64 / noise::BINS as f64)
         };
         let tau = core::f64::consts::TAU;
+        let win = |ticks: u32| move |x: f64| boxcar(ticks.max(1), x);
+        let (sub0, sub1, land) = (
+            win(sub_blocks[0] * block),
+            win(sub_blocks[1] * block),
+            win(land_blocks / 3 * block),
+        );
+        let tests: [&dyn Fn(f64) -> f64; 5] = [
+            &|x| boxcar(l1, x) * boxcar(l2, x),
+            &win(quiet_ticks),
+            &sub0,
+            &sub1,
+            &land,
+        ];
+        let los: [f64; noise::BINS] = core::array::from_fn(edge);
+        let longest = (sub_blocks[1] * block)
+            .max(land_blocks / 3 * block)
+            .max(l1)
+            .max(quiet_ticks);
+        let aliased = gains::aliased_maxima(fs, tick, longest, los.map(|lo| lo.min(nyq)), tests);
         let gains: [noise::Gains; noise::BINS] = core::array::from_fn(|k| {
-            let lo = edge(k);
-            let over = |g: &dyn Fn(f64) -> f64| max_over(lo, nyq.max(lo), g);
-            let window = |ticks: u32| over(&|f| sample_box(f) * boxcar(ticks.max(1), f / f_tick));
+            let lo = los[k];
+            let [band, quiet, sub0, sub1, land] = aliased[k];
             // A sinusoid of tick-sum amplitude A at f has a per-sample amplitude of at most
             // A / (D |box(f)|), a velocity amplitude of that times fs / (2 pi f) and a
             // displacement amplitude times (fs / 2 pi f)^2 (in samples); up to 0.8 of the tick
@@ -523,12 +523,10 @@ impl Drift {
                 w * w / (f64::from(tick) * sample_box(f).max(1e-3))
             });
             noise::Gains {
-                band_q16: q16(over(&|f| {
-                    sample_box(f) * boxcar(l1, f / f_tick) * boxcar(l2, f / f_tick)
-                })),
-                quiet_q16: q16(window(quiet_ticks)),
-                sub_q16: sub_blocks.map(|m| q16(window(m * block))),
-                land_q16: q16(window(land_blocks / 3 * block)),
+                band_q16: q16(band),
+                quiet_q16: q16(quiet),
+                sub_q16: [q16(sub0), q16(sub1)],
+                land_q16: q16(land),
                 velocity_q16: q16(vel),
                 // 2 d (the lift test's units), peak to peak from an arbitrary start: 4x.
                 displacement: round(4.0 * disp),
@@ -542,9 +540,8 @@ impl Drift {
         // average of 2^k / 2 independent squares (noise.rs).
         let dist_shift =
             (libm::round(libm::log2(t.disturbance_s / tick_s)) as i32).clamp(3, 10) as u32;
-        let margin = |shift: u32| {
-            1.0 + t.disturbance_sigmas * libm::sqrt(2.0 / f64::from(1u32 << shift))
-        };
+        let margin =
+            |shift: u32| 1.0 + t.disturbance_sigmas * libm::sqrt(2.0 / f64::from(1u32 << shift));
         let dist_margin = margin(dist_shift);
         let dist_margin_short = margin(dist_shift - 2);
         Ok(DriftSettings {
@@ -744,17 +741,18 @@ impl Detector {
     }
 
     /// Adds one sample: its raw `codes`, its integrated values `y` (Q16 counts), the axes'
-    /// zeros (Q16 counts) and velocities (`W = 2 V`, [`crate::IntegratorState::velocity`])
-    /// after it was integrated (if it was), and the shadow's velocities if there is one
-    /// ([`Action::Shadow`]). Returns what the tracker must do.
+    /// zeros (Q16 counts), and `velocities`, asked for only when a tick ends (once in
+    /// [`DriftSettings::tick_samples`] samples): the axes' velocities (`W = 2 V`,
+    /// [`crate::IntegratorState::velocity`]) after the sample was integrated (if it was), and
+    /// the shadow's if there is one ([`Action::Shadow`]). Returns what the tracker must do.
+    #[inline(always)]
     pub fn push(
         &mut self,
         s: &DriftSettings,
         codes: [u16; 3],
         y: [i64; 3],
         bias: [i64; 3],
-        velocity: [i64; 3],
-        shadow: Option<[i64; 3]>,
+        velocities: impl FnOnce() -> ([i64; 3], Option<[i64; 3]>),
     ) -> Action {
         self.stream.push(codes, y);
         match self.state {
@@ -775,6 +773,21 @@ impl Detector {
             }
             return Action::None;
         }
+        let (velocity, shadow) = velocities();
+        self.end_tick(s, bias, velocity, shadow)
+    }
+
+    /// A tick is complete: into the rings, then the decisions. Out of line: it runs once
+    /// per tick (every 15 samples at 3 kHz), and inlined into the per-sample path it would
+    /// only lengthen that path's code (flash) and its register pressure.
+    #[inline(never)]
+    fn end_tick(
+        &mut self,
+        s: &DriftSettings,
+        bias: [i64; 3],
+        velocity: [i64; 3],
+        shadow: Option<[i64; 3]>,
+    ) -> Action {
         self.stream.close_tick(s);
         for (a, d) in self.disturbance.iter_mut().enumerate() {
             d.update(s, &self.stream, a);
@@ -782,31 +795,26 @@ impl Detector {
         if let Some(l) = s.lift {
             self.lift.update(&l, &self.stream);
         }
-        let action = self.tick(s, bias, velocity, shadow);
+        // The decisions: a lift first, from rest or motion; then the state's own.
+        let action = if matches!(self.state, State::Still | State::Moving) && self.lifted(s, bias) {
+            let held = self.holds();
+            self.enter(State::Lifted);
+            if held {
+                Action::Discard
+            } else {
+                Action::Stop
+            }
+        } else {
+            match self.state {
+                State::Still => self.still_tick(s, bias),
+                State::Moving => self.moving_tick(s, bias, velocity, shadow),
+                State::Lifted => self.lifted_tick(s, bias),
+                State::Frozen => Action::None,
+            }
+        };
         self.rest
             .refresh_headroom(s, &self.noise, &self.disturbance, self.state);
         action
-    }
-
-    /// Decisions at the end of a tick.
-    fn tick(
-        &mut self,
-        s: &DriftSettings,
-        bias: [i64; 3],
-        velocity: [i64; 3],
-        shadow: Option<[i64; 3]>,
-    ) -> Action {
-        if matches!(self.state, State::Still | State::Moving) && self.lifted(s, bias) {
-            let held = self.holds();
-            self.enter(State::Lifted);
-            return if held { Action::Discard } else { Action::Stop };
-        }
-        match self.state {
-            State::Still => self.still_tick(s, bias),
-            State::Moving => self.moving_tick(s, bias, velocity, shadow),
-            State::Lifted => self.lifted_tick(s, bias),
-            State::Frozen => Action::None,
-        }
     }
 
     /// Enters `state` at this tick.

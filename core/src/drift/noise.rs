@@ -178,10 +178,17 @@ impl Learn {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Disturbance {
     /// Exponential averages of the squared residual and of its squared first difference
-    /// over `2^k` ticks, and of the squared residual over `2^(k-2)` [LSB^2 (L1 L2)^2].
-    power: [u128; 3],
+    /// over `2^k` ticks, and of the squared residual over `2^(k-2)` [LSB^2 (L1 L2)^2]; each
+    /// square of a residual (or difference) saturated at `2^32 - 1`, so below `2^64` (a
+    /// residual reaches `2^32` only past full scale: `L1 L2 D 2^16` is `2^26` at 3 kHz).
+    power: [u64; 3],
     /// Their noise-only expectations [LSB^2 (L1 L2)^2, Q32].
     expect_q32: [u128; 2],
+    /// The expectations times the long average's margin, `E m` (the same units): fixed by the
+    /// calibration, so computed once, not per tick.
+    margin_q32: [u128; 2],
+    /// The squared residual a burst exceeds, `floor(E k^2 / 2^32)` [LSB^2 (L1 L2)^2].
+    burst_r2: u128,
     /// The last residual.
     last: i64,
     /// The amplitude `A` of a sinusoid that would explain the excess [Q16 LSB samples, per
@@ -237,9 +244,12 @@ impl Disturbance {
             var_of_taps(&c[..taps], cov).max(0) as u128,
             var_of_taps(&dc[..=taps], cov).max(0) as u128,
         ];
+        let margin = |e: u128| e.saturating_mul(u128::from(s.dist_margin_q8)) >> 8;
         Self {
-            power: [expect_q32[0] >> 32, expect_q32[1] >> 32, expect_q32[0] >> 32],
+            power: [0, 1, 0].map(|i| (expect_q32[i] >> 32).min(u128::from(u64::MAX)) as u64),
             expect_q32,
+            margin_q32: expect_q32.map(margin),
+            burst_r2: (expect_q32[0].saturating_mul(u128::from(s.burst_k2_q8)) >> 8) >> 32,
             last: 0,
             amp_q16: 0,
             bin: 0,
@@ -267,32 +277,38 @@ impl Disturbance {
     pub(crate) fn update(&mut self, s: &DriftSettings, stream: &TickStream, axis: usize) {
         let r = stream.band_residual(s, axis);
         let diff = r - core::mem::replace(&mut self.last, r);
-        let r2_q32 = u128::from(r.unsigned_abs()).pow(2) << 32;
-        self.burst = r2_q32 > self.expect_q32[0].saturating_mul(u128::from(s.burst_k2_q8)) >> 8;
-        let l = u128::from(s.band[0] * s.band[1]);
+        // r^2 2^32 > E k^2 as r^2 > floor(E k^2 / 2^32): the same test, its bound fixed.
+        self.burst = u128::from(r.unsigned_abs()).pow(2) > self.burst_r2;
+        let l = u64::from(s.band[0] * s.band[1]);
         // A burst's own amplitude, until the averages catch up (Q16 LSB per tick sum).
         let burst_q16 = if self.burst {
-            ((u128::from(r.unsigned_abs()) << 16) / l) as u64
+            // |r| < 2^33 (L1 L2 D 2^16), shifted below 2^49: a 64-bit division.
+            (r.unsigned_abs().min(1 << 47) << 16) / l
         } else {
             0
         };
         let k = s.dist_shift;
         for ((p, x), k) in self.power.iter_mut().zip([r, diff, r]).zip([k, k, k - 2]) {
-            let x2 = u128::from(x.unsigned_abs()).pow(2); // < 2^86
+            let x2 = x.unsigned_abs().min(u64::from(u32::MAX)).pow(2);
             *p = if x2 >= *p {
                 *p + ((x2 - *p) >> k)
             } else {
                 *p - ((*p - x2) >> k)
             };
         }
-        let margin = |e: u128| e.saturating_mul(u128::from(s.dist_margin_q8)) >> 8;
-        let p = self.power.map(|p| p << 32);
+        let p = self.power.map(|p| u128::from(p) << 32);
         let e0 = self.expect_q32[0];
-        // The short average's bounds on the excess: P_short (1 -+ m) - E, m = margin - 1.
+        // The short average's bounds on the excess: P_short (1 -+ m) - E, m = margin - 1;
+        // `(P 2^32 c) >> 8` as `P c 2^24`, exact, and below 2^104 (P < 2^64, c < 2^16).
         let m = u128::from(s.dist_margin_short_q8 - 256);
-        let upper = (p[2].saturating_mul(256 + m) >> 8).saturating_sub(e0);
-        let lower = (p[2].saturating_mul(256u128.saturating_sub(m)) >> 8).saturating_sub(e0);
-        let long = if p[0] > margin(e0) { p[0] - e0 } else { 0 };
+        let short = |c: u128| (u128::from(self.power[2]) * c) << 24;
+        let upper = short(256 + m).saturating_sub(e0);
+        let lower = short(256u128.saturating_sub(m)).saturating_sub(e0);
+        let long = if p[0] > self.margin_q32[0] {
+            p[0] - e0
+        } else {
+            0
+        };
         let excess = long.max(lower).min(upper);
         if excess == 0 {
             self.amp_q16 = burst_q16;
@@ -300,16 +316,21 @@ impl Disturbance {
             return;
         }
         // sqrt(2 (P - E) 2^32) / (L1 L2): Q16 LSB per tick sum.
-        self.amp_q16 = ((crate::math::isqrt_u128(2 * excess) / l) as u64).max(burst_q16);
+        // A 128-bit number's root is below 2^64 (and 2 excess < 2^97): a 64-bit division.
+        let root = crate::math::isqrt_u128(2 * excess) as u64;
+        self.amp_q16 = (root / l).max(burst_q16);
         // The frequency: the difference's excess (discounted by its margin) over the
         // residual's, against each bin's edge.
-        let ratio_q16 = (p[1].saturating_sub(margin(self.expect_q32[1])) >> 16)
-            .checked_div(excess >> 32)
-            .unwrap_or(0);
-        self.bin = s
-            .bin_ratio_q16
-            .iter()
-            .take_while(|&&edge| ratio_q16 >= u128::from(edge))
-            .count() as u8;
+        // `floor(num / den) >= edge` as `num >= edge den`: no 128-bit division per tick.
+        let num = p[1].saturating_sub(self.margin_q32[1]) >> 16;
+        let den = excess >> 32;
+        self.bin = if den == 0 {
+            0
+        } else {
+            s.bin_ratio_q16
+                .iter()
+                .take_while(|&&edge| u128::from(edge).checked_mul(den).is_some_and(|m| num >= m))
+                .count() as u8
+        };
     }
 }

@@ -45,7 +45,6 @@ use super::noise::{Disturbance, Noise};
 use super::ticks::{offset, TickStream};
 use super::{Action, Detector, DriftSettings, State, BLOCKS};
 
-
 /// The start tests' state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Rest {
@@ -154,10 +153,10 @@ impl Detector {
         // The filter remembers L1 + L2 - 1 ticks: until it has forgotten the motion before
         // this rest, only the raw test runs.
         let band_ready = self.age() >= u64::from(s.band[0] + s.band[1] - 1);
-        for a in 0..2 {
+        for (a, &b) in bias.iter().enumerate().take(2) {
             let (kappa, limit) = Rest::limits(s, &self.noise[a], &self.disturbance[a]);
-            let raw = offset(u64::from(self.stream.code(1, a)), u64::from(s.tick), bias[a]);
-            let band = self.stream.band_offset(s, a, bias[a]);
+            let raw = offset(u64::from(self.stream.code(1, a)), u64::from(s.tick), b);
+            let band = self.stream.band_offset(s, a, b);
             let tests = if band_ready { 0..2 } else { 1..2 };
             let sd = self.noise[a].sd_q16;
             for (c, z) in [band, raw].into_iter().enumerate().skip(tests.start) {
@@ -213,8 +212,8 @@ impl Detector {
         let t = self.stream.ticks();
         let mut alarm: Option<u64> = None;
         let mut step = false;
-        for a in 0..2 {
-            let d = self.stream.partial_offset(a, bias[a]);
+        for (a, &b) in bias.iter().enumerate().take(2) {
+            let d = self.stream.partial_offset(a, b);
             for (side, z) in [d, -d].into_iter().enumerate() {
                 if z > self.rest.headroom[a][side] {
                     let sum = self.rest.cusum[1][a][side];
@@ -251,7 +250,9 @@ impl Detector {
         let latent = self.take_latent(s);
         // A disturbed device's velocity at the onset is the disturbance's, not zero: the one
         // whose integral over the rest before averages to zero (ticks.rs). Only from rest.
-        let disturbed = self.disturbance[..2].iter().any(|d| d.amp_q16 > 0 || d.burst);
+        let disturbed = self.disturbance[..2]
+            .iter()
+            .any(|d| d.amp_q16 > 0 || d.burst);
         let pre = u64::from(s.pre_blocks) * u64::from(s.block);
         // At rest since before the pre-window: still, or only after motions that were
         // discarded (the disturbance's own).

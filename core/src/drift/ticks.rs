@@ -38,12 +38,50 @@ use crate::integrator::BlockSums;
 use super::{DriftSettings, BLOCKS, RING};
 
 /// One axis's integrated-sample sums over one block, compact ([`BlockSums`] without the
-/// block's length and first sample, which the replay does not need).
+/// block's length, first and last samples: the length is the stream's, the replay does not
+/// need the first, and the last is kept apart, in 32 bits).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct TickSums {
     sum: i64,
     sum_of_prefixes: i64,
-    last: i64,
+}
+
+/// The current block's integrated-sample sums, axes side by side (one count, one first-sample
+/// test per sample for all three): [`BlockSums`] per axis when read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct OpenBlock {
+    n: u32,
+    first: [i64; 3],
+    sum: [i64; 3],
+    sum_of_prefixes: [i64; 3],
+    last: [i64; 3],
+}
+
+impl OpenBlock {
+    /// Appends one sample `y` per axis (Q16 counts), as [`BlockSums::push`] on each.
+    #[inline(always)]
+    fn push(&mut self, y: [i64; 3]) {
+        if self.n == 0 {
+            self.first = y;
+        }
+        self.n += 1;
+        for ((sum, prefixes), y) in self.sum.iter_mut().zip(&mut self.sum_of_prefixes).zip(y) {
+            *sum += y;
+            *prefixes += *sum;
+        }
+        self.last = y;
+    }
+
+    /// Axis `a`'s sums.
+    fn sums(&self, a: usize) -> BlockSums {
+        BlockSums {
+            n: self.n,
+            sum: self.sum[a],
+            sum_of_prefixes: self.sum_of_prefixes[a],
+            first: self.first[a],
+            last: self.last[a],
+        }
+    }
 }
 
 /// The running sums of the hand-band filter for one axis (raw codes).
@@ -59,10 +97,13 @@ struct Band {
 pub struct TickStream {
     codes: [[u32; 3]; RING],
     blocks: [[TickSums; 3]; BLOCKS],
+    /// Each block's last integrated sample (Q16 counts): a filtered 16-bit code, so
+    /// `0..=65535 * 2^16` (the low-pass never leaves its inputs' range), which `u32` holds;
+    /// apart from the sums so that no padding follows it (0.75 KiB of RAM).
+    lasts: [[u32; 3]; BLOCKS],
     cur_codes: [u32; 3],
-    cur_sums: [BlockSums; 3],
     cur_n: u32,
-    cur_block: [BlockSums; 3],
+    cur_block: OpenBlock,
     block_ticks: u32,
     band: [Band; 3],
     ticks: u64,
@@ -91,15 +132,15 @@ impl TickStream {
         let block = cal.map(|c| TickSums {
             sum: n * c.bias_q16,
             sum_of_prefixes: 0,
-            last: c.bias_q16,
         });
+        let last = cal.map(|c| last_u32(c.bias_q16));
         Self {
             codes: [tick_sum; RING],
             blocks: [block; BLOCKS],
+            lasts: [last; BLOCKS],
             cur_codes: [0; 3],
-            cur_sums: [BlockSums::default(); 3],
             cur_n: 0,
-            cur_block: [BlockSums::default(); 3],
+            cur_block: OpenBlock::default(),
             block_ticks: 0,
             band,
             ticks: 0,
@@ -112,10 +153,10 @@ impl TickStream {
     /// Adds one sample: raw `codes`, integrated values `y` (Q16 counts).
     #[inline(always)]
     pub(crate) fn push(&mut self, codes: [u16; 3], y: [i64; 3]) {
-        for a in 0..3 {
-            self.cur_codes[a] += u32::from(codes[a]);
-            self.cur_sums[a].push(y[a]);
+        for (sum, c) in self.cur_codes.iter_mut().zip(codes) {
+            *sum += u32::from(c);
         }
+        self.cur_block.push(y);
         self.cur_n += 1;
     }
 
@@ -139,21 +180,21 @@ impl TickStream {
             band.f2 = band.f2 + band.f1 - band.g;
         }
         self.codes[t % RING] = codes;
-        let tick = core::mem::take(&mut self.cur_sums);
-        for (b, t) in self.cur_block.iter_mut().zip(&tick) {
-            *b = merge(b, t);
-        }
         self.cur_n = 0;
         self.ticks += 1;
         self.block_ticks += 1;
         self.block_closed = self.block_ticks >= s.block;
         if self.block_closed {
-            self.blocks[(self.blocks_done % BLOCKS as u64) as usize] =
-                core::mem::take(&mut self.cur_block).map(|b| TickSums {
-                    sum: b.sum,
-                    sum_of_prefixes: b.sum_of_prefixes,
-                    last: b.last,
-                });
+            let i = (self.blocks_done % BLOCKS as u64) as usize;
+            let b = &self.cur_block;
+            for a in 0..3 {
+                self.blocks[i][a] = TickSums {
+                    sum: b.sum[a],
+                    sum_of_prefixes: b.sum_of_prefixes[a],
+                };
+                self.lasts[i][a] = last_u32(b.last[a]);
+            }
+            self.cur_block = OpenBlock::default();
             self.blocks_done += 1;
             self.block_ticks = 0;
         }
@@ -209,7 +250,7 @@ impl TickStream {
 
     /// Samples since the last complete block (its closed ticks and the current tick so far).
     pub(crate) fn samples_in_block(&self) -> u32 {
-        self.cur_block[0].n + self.cur_n
+        self.cur_block.n
     }
 
     /// The hand-band filter's output on `axis` as an offset from `bias` (Q16 counts), per
@@ -237,8 +278,8 @@ impl TickStream {
     }
 
     /// The integrated-sample sums of the last `blocks` complete blocks (`< BLOCKS`), oldest
-    /// first, then those of the current block's closed ticks and the current tick so far
-    /// (those that have samples).
+    /// first, then those of the current block so far (its closed ticks and the current tick's
+    /// samples), if it has samples.
     pub(crate) fn replay(
         &self,
         s: &DriftSettings,
@@ -248,16 +289,16 @@ impl TickStream {
         let n = s.block * s.tick;
         (first..self.blocks_done)
             .map(move |i| {
-                self.blocks[(i % BLOCKS as u64) as usize].map(|t| BlockSums {
+                let i = (i % BLOCKS as u64) as usize;
+                core::array::from_fn(|a| BlockSums {
                     n,
-                    sum: t.sum,
-                    sum_of_prefixes: t.sum_of_prefixes,
+                    sum: self.blocks[i][a].sum,
+                    sum_of_prefixes: self.blocks[i][a].sum_of_prefixes,
                     first: 0,
-                    last: t.last,
+                    last: i64::from(self.lasts[i][a]),
                 })
             })
-            .chain((self.cur_block[0].n > 0).then_some(self.cur_block))
-            .chain((self.cur_n > 0).then_some(self.cur_sums))
+            .chain((self.cur_block.n > 0).then(|| core::array::from_fn(|a| self.cur_block.sums(a))))
     }
 
     /// The last integrated sample of the block before the last `blocks` complete ones (Q16
@@ -266,7 +307,7 @@ impl TickStream {
         let i = self.blocks_done.checked_sub(blocks as u64 + 1)?;
         // The ring holds the last BLOCKS blocks: a replay of at most BLOCKS - 1 (the cap in
         // `start`) leaves its predecessor in it.
-        (blocks < BLOCKS).then(|| self.blocks[(i % BLOCKS as u64) as usize].map(|t| t.last))
+        (blocks < BLOCKS).then(|| self.lasts[(i % BLOCKS as u64) as usize].map(i64::from))
     }
 }
 
@@ -286,12 +327,13 @@ impl TickStream {
             let mut m = BlockSums::default();
             for k in (back + 1..=oldest).rev() {
                 let t = self.blocks[((self.blocks_done - k) % BLOCKS as u64) as usize][a];
+                // The merged sums need no last sample.
                 let b = BlockSums {
                     n: self.block_samples,
                     sum: t.sum,
                     sum_of_prefixes: t.sum_of_prefixes,
                     first: 0,
-                    last: t.last,
+                    last: 0,
                 };
                 m = merge(&m, &b);
             }
@@ -303,6 +345,12 @@ impl TickStream {
             (2 * v).clamp(i128::from(i64::MIN), i128::from(i64::MAX)) as i64
         }))
     }
+}
+
+/// A block's last integrated sample in the ring's 32 bits: in range for any filtered 16-bit
+/// code (see [`TickStream`]'s `lasts`); saturated, never wrapped, were it not.
+fn last_u32(y: i64) -> u32 {
+    u32::try_from(y.max(0)).unwrap_or(u32::MAX)
 }
 
 /// Two consecutive blocks' sums as one (see the module docs); the first may be empty. The

@@ -107,7 +107,11 @@ impl Detector {
     fn sub_sign(&self, s: &DriftSettings, scale: usize, axis: usize, back: u32, bias: i64) -> i8 {
         let m = s.sub_blocks[scale];
         let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
-        let o = offset_q16(self.stream.blocks_sum(axis, back + 1, back + m + 1), n, bias);
+        let o = offset_q16(
+            self.stream.blocks_sum(axis, back + 1, back + m + 1),
+            n,
+            bias,
+        );
         let d = &self.disturbance[axis];
         let allow = d.allow(d.gains(s).sub_q16[scale], n / u64::from(s.tick));
         let var = self.noise[axis].var(n, self.bias_samples);
@@ -129,13 +133,13 @@ impl Detector {
         };
         for scale in 0..2 {
             let m = u64::from(s.sub_blocks[scale]);
-            for a in 0..2 {
+            for (a, &b) in bias.iter().enumerate().take(2) {
                 let mut run = (0i8, 0u32);
                 let mut back = 0u32;
                 while u64::from(back) + m <= blocks
                     && (back as usize) + (m as usize) < super::BLOCKS
                 {
-                    let sign = self.sub_sign(s, scale, a, back, bias[a]);
+                    let sign = self.sub_sign(s, scale, a, back, b);
                     if sign == 0 || (run.1 > 0 && sign != run.0) {
                         break;
                     }
@@ -162,8 +166,8 @@ impl Detector {
     /// The tilt tests at a block's end while moving.
     pub(crate) fn tilt_block(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
         for scale in 0..2 {
-            for a in 0..2 {
-                let sign = self.sub_sign(s, scale, a, 0, bias[a]);
+            for (a, &b) in bias.iter().enumerate().take(2) {
+                let sign = self.sub_sign(s, scale, a, 0, b);
                 if scale == 0 && sign != 0 {
                     let first = &mut self.tilt.first[a];
                     if *first == 0 {
@@ -231,7 +235,13 @@ impl Detector {
 
     /// A shadow against the zeros `level` from `subs` short sub-windows back; `certain` when
     /// the tilt is confirmed.
-    fn begin_shadow(&mut self, s: &DriftSettings, level: [i64; 3], subs: u32, certain: bool) -> Action {
+    fn begin_shadow(
+        &mut self,
+        s: &DriftSettings,
+        level: [i64; 3],
+        subs: u32,
+        certain: bool,
+    ) -> Action {
         let m = u64::from(s.sub_blocks[0] * subs);
         let blocks = m.min(self.stream.blocks().saturating_sub(1));
         let samples = blocks * u64::from(s.block) * u64::from(s.tick)
@@ -356,7 +366,7 @@ impl Detector {
             // The zeros become the last sub-window's means; Still.
             let m = s.sub_blocks[0];
             let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
-                        let level: [i64; 3] = core::array::from_fn(|a| {
+            let level: [i64; 3] = core::array::from_fn(|a| {
                 let o = offset_q16(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
                 bias[a] + crate::math::div_round(o, n as i64)
             });

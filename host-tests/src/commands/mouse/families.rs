@@ -652,13 +652,17 @@ fn summarise(kind: Kind, trials: &[Trial], cpi: f64) -> Family {
         results: trials.to_vec(),
     };
     match kind {
-        Kind::Strokes | Kind::AfterTilt | Kind::KnockyStrokes | Kind::VibrationZ
+        Kind::Strokes
+        | Kind::AfterTilt
+        | Kind::KnockyStrokes
+        | Kind::VibrationZ
         | Kind::VibrationAll => {
             f.asks = ">= 90 % within max(5 %, 3 floors)".into();
         }
         Kind::Drags => {
             f.extra.push(("retreat_mm_max".into(), second.max * 1e3));
-            f.extra.push(("retreat_mm_median".into(), second.median * 1e3));
+            f.extra
+                .push(("retreat_mm_median".into(), second.median * 1e3));
             f.pass &= second.max <= 0.002;
             f.asks = ">= 90 % within max(10 %, 3 bias floors); retreat <= 2 mm".into();
         }
@@ -765,14 +769,26 @@ pub fn all(drift: Option<Drift>, z: Sizes, seed: u64) -> Vec<Family> {
             family(k, &dev, n, seed, avg_s)
         })
         .collect();
-    out.push(rests(SensorSpec::ADXL335, base, z.rest.0, z.rest.1, seed ^ 11));
+    out.push(rests(
+        SensorSpec::ADXL335,
+        base,
+        z.rest.0,
+        z.rest.1,
+        seed ^ 11,
+    ));
     for &fs in &RATES {
         let spec = SensorSpec {
             fs: f64::from(fs),
             ..SensorSpec::ADXL335
         };
         let dev = Device::calibrated(spec, base, seed ^ u64::from(fs));
-        let mut f = family(Kind::Strokes, &dev, z.sweep_trials, seed ^ u64::from(fs), avg_s);
+        let mut f = family(
+            Kind::Strokes,
+            &dev,
+            z.sweep_trials,
+            seed ^ u64::from(fs),
+            avg_s,
+        );
         f.name = format!("strokes at {fs} Hz");
         out.push(f);
     }
@@ -882,7 +898,11 @@ pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: u
         )
     } else {
         (
-            Device::calibrated(spec, base, seed ^ (spec.nd_ug as u64) ^ u64::from(spec.bits)),
+            Device::calibrated(
+                spec,
+                base,
+                seed ^ (spec.nd_ug as u64) ^ u64::from(spec.bits),
+            ),
             seed ^ 13,
         )
     };
@@ -916,8 +936,7 @@ pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: u
             || now.2 != last.2
         {
             let v = t.axes().each_ref().map(|a| {
-                a.integrator().velocity() as f64 / 2.0 / 65_536.0 * t.settings().m_s2_per_lsb()
-                    / fs
+                a.integrator().velocity() as f64 / 2.0 / 65_536.0 * t.settings().m_s2_per_lsb() / fs
                     * 1e3
             });
             out += &format!(
@@ -944,7 +963,9 @@ pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: u
         "end: cursor [{:.2}, {:.2}] mm, true displacement {:?} mm\n",
         pos[0] as f64 * m_per_count * 1e3,
         pos[1] as f64 * m_per_count * 1e3,
-        case.scenario.displacement().map(|d| (d * 1e3 * 100.0).round() / 100.0)
+        case.scenario
+            .displacement()
+            .map(|d| (d * 1e3 * 100.0).round() / 100.0)
     );
     out
 }
@@ -1031,35 +1052,41 @@ pub fn long_rests(drift: Option<Drift>, hours: f64, seed: u64) -> Vec<LongRest> 
     };
     let devices = 20usize;
     let each = hours / devices as f64;
-    [("ADXL335, 300 ug/sqrt(Hz), 12 bits", SensorSpec::ADXL335), ("100 ug/sqrt(Hz), 12 bits", quiet)]
-        .into_iter()
-        .map(|(name, spec)| {
-            let runs: Vec<(u64, i64)> = (0..devices as u64)
-                .into_par_iter()
-                .map(|k| rest_device(spec, drift, each, seed.wrapping_mul(977).wrapping_add(k)))
-                .collect();
-            let interval_s = config_for(
-                spec,
-                Config {
-                    drift,
-                    ..Config::default()
-                },
-            )
-            .validate()
-            .ok()
-            .and_then(|s| s.drift().map(imu_core::drift::DriftSettings::false_start_interval_s))
-            .unwrap_or(f64::INFINITY);
-            LongRest {
-                sensor: name.into(),
-                devices,
-                hours_each: each,
-                false_starts: runs.iter().map(|r| r.0).sum(),
-                devices_moved: runs.iter().filter(|r| r.1 > 0).count(),
-                counts: runs.iter().map(|r| r.1).sum(),
-                predicted_false_starts: hours * 3600.0 / interval_s,
-            }
+    [
+        ("ADXL335, 300 ug/sqrt(Hz), 12 bits", SensorSpec::ADXL335),
+        ("100 ug/sqrt(Hz), 12 bits", quiet),
+    ]
+    .into_iter()
+    .map(|(name, spec)| {
+        let runs: Vec<(u64, i64)> = (0..devices as u64)
+            .into_par_iter()
+            .map(|k| rest_device(spec, drift, each, seed.wrapping_mul(977).wrapping_add(k)))
+            .collect();
+        let interval_s = config_for(
+            spec,
+            Config {
+                drift,
+                ..Config::default()
+            },
+        )
+        .validate()
+        .ok()
+        .and_then(|s| {
+            s.drift()
+                .map(imu_core::drift::DriftSettings::false_start_interval_s)
         })
-        .collect()
+        .unwrap_or(f64::INFINITY);
+        LongRest {
+            sensor: name.into(),
+            devices,
+            hours_each: each,
+            false_starts: runs.iter().map(|r| r.0).sum(),
+            devices_moved: runs.iter().filter(|r| r.1 > 0).count(),
+            counts: runs.iter().map(|r| r.1).sum(),
+            predicted_false_starts: hours * 3600.0 / interval_s,
+        }
+    })
+    .collect()
 }
 
 /// The long-rest benchmark as a table.
@@ -1091,30 +1118,45 @@ struct Knob {
 /// Every constant of drift control: the hand limits and budgets of [`Drift`], and the
 /// statistics' [`imu_core::drift::Tuning`].
 fn knobs() -> Vec<Knob> {
+    // `knob!(name, field)`: the knob that multiplies `Drift`'s `field` by the factor.
+    macro_rules! knob {
+        ($name:literal, $($field:tt)+) => {
+            Knob {
+                name: $name,
+                scale: |d, f| d.$($field)+ *= f,
+            }
+        };
+    }
     vec![
-        Knob { name: "false_start_hours", scale: |d, f| d.false_start_hours *= f },
-        Knob { name: "hold_s", scale: |d, f| d.hold_s *= f },
-        Knob { name: "knock_hz", scale: |d, f| d.knock_hz *= f },
-        Knob { name: "stroke_max_s", scale: |d, f| d.stroke_max_s *= f },
-        Knob { name: "glide_max_s", scale: |d, f| d.glide_max_s *= f },
-        Knob { name: "lift_rise_s", scale: |d, f| d.lift_rise_s = d.lift_rise_s.map(|r| r * f) },
-        Knob { name: "mount_tilt_deg", scale: |d, f| d.mount_tilt_deg *= f },
-        Knob { name: "bias_tau_s", scale: |d, f| d.bias_tau_s = d.bias_tau_s.map(|r| r * f) },
-        Knob { name: "tuning.k_sd", scale: |d, f| d.tuning.k_sd *= f },
-        Knob { name: "tuning.chi2", scale: |d, f| d.tuning.chi2 *= f },
-        Knob { name: "tuning.kappa[slow]", scale: |d, f| d.tuning.kappa[0] *= f },
-        Knob { name: "tuning.kappa[fast]", scale: |d, f| d.tuning.kappa[1] *= f },
-        Knob { name: "tuning.lobe_sd", scale: |d, f| d.tuning.lobe_sd *= f },
-        Knob { name: "tuning.sub_s[short]", scale: |d, f| d.tuning.sub_s[0] *= f },
-        Knob { name: "tuning.sub_s[long]", scale: |d, f| d.tuning.sub_s[1] *= f },
-        Knob { name: "tuning.hold_fraction", scale: |d, f| d.tuning.hold_fraction *= f },
-        Knob { name: "tuning.fade_fraction", scale: |d, f| d.tuning.fade_fraction *= f },
-        Knob { name: "tuning.confirm_fraction", scale: |d, f| d.tuning.confirm_fraction *= f },
-        Knob { name: "tuning.quiet_s", scale: |d, f| d.tuning.quiet_s *= f },
-        Knob { name: "tuning.disturbance_s", scale: |d, f| d.tuning.disturbance_s *= f },
-        Knob { name: "tuning.disturbance_sigmas", scale: |d, f| d.tuning.disturbance_sigmas *= f },
-        Knob { name: "tuning.lift_window", scale: |d, f| d.tuning.lift_window *= f },
-        Knob { name: "tuning.q_inflation_sd", scale: |d, f| d.tuning.q_inflation_sd *= f },
+        knob!("false_start_hours", false_start_hours),
+        knob!("hold_s", hold_s),
+        knob!("knock_hz", knock_hz),
+        knob!("stroke_max_s", stroke_max_s),
+        knob!("glide_max_s", glide_max_s),
+        Knob {
+            name: "lift_rise_s",
+            scale: |d, f| d.lift_rise_s = d.lift_rise_s.map(|r| r * f),
+        },
+        knob!("mount_tilt_deg", mount_tilt_deg),
+        Knob {
+            name: "bias_tau_s",
+            scale: |d, f| d.bias_tau_s = d.bias_tau_s.map(|r| r * f),
+        },
+        knob!("tuning.k_sd", tuning.k_sd),
+        knob!("tuning.chi2", tuning.chi2),
+        knob!("tuning.kappa[slow]", tuning.kappa[0]),
+        knob!("tuning.kappa[fast]", tuning.kappa[1]),
+        knob!("tuning.lobe_sd", tuning.lobe_sd),
+        knob!("tuning.sub_s[short]", tuning.sub_s[0]),
+        knob!("tuning.sub_s[long]", tuning.sub_s[1]),
+        knob!("tuning.hold_fraction", tuning.hold_fraction),
+        knob!("tuning.fade_fraction", tuning.fade_fraction),
+        knob!("tuning.confirm_fraction", tuning.confirm_fraction),
+        knob!("tuning.quiet_s", tuning.quiet_s),
+        knob!("tuning.disturbance_s", tuning.disturbance_s),
+        knob!("tuning.disturbance_sigmas", tuning.disturbance_sigmas),
+        knob!("tuning.lift_window", tuning.lift_window),
+        knob!("tuning.q_inflation_sd", tuning.q_inflation_sd),
     ]
 }
 
@@ -1171,7 +1213,12 @@ pub fn sensitivity(z: Sizes, seed: u64) -> Vec<Sensitivity> {
         .ok()?;
         let dev = board_device(Some(d), seed);
         let avg = averaging_s(Some(d));
-        Some(SCORED.iter().map(|&k| score(&family(k, &dev, n, seed, avg))).collect())
+        Some(
+            SCORED
+                .iter()
+                .map(|&k| score(&family(k, &dev, n, seed, avg)))
+                .collect(),
+        )
     };
     let base = scores(Drift::default()).unwrap_or_default();
     let mut out = vec![Sensitivity {
@@ -1183,7 +1230,9 @@ pub fn sensitivity(z: Sizes, seed: u64) -> Vec<Sensitivity> {
         let at = |f: f64| {
             let mut d = Drift::default();
             (k.scale)(&mut d, f);
-            scores(d).map_or(vec![None; SCORED.len()], |v| v.into_iter().map(Some).collect())
+            scores(d).map_or(vec![None; SCORED.len()], |v| {
+                v.into_iter().map(Some).collect()
+            })
         };
         out.push(Sensitivity {
             name: k.name.into(),

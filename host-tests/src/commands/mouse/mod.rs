@@ -20,8 +20,8 @@ use imu_core::{Config, Drift, Tracker};
 use serde::Serialize;
 
 use crate::stats::{spread, Spread};
-use crate::world::hand::SensorSpec;
 use crate::world::desk::{Plan, Sensor, FS};
+use crate::world::hand::SensorSpec;
 use crate::world::noise;
 
 pub mod families;
@@ -389,7 +389,11 @@ pub fn run(a: &Args) -> super::Outcome {
     if let Some(t) = &a.trace {
         let bad = || {
             let names: Vec<&str> = families::Kind::ALL.iter().map(|k| k.name()).collect();
-            super::Error::arg("trace", t, format!("FAMILY:K, FAMILY one of {}", names.join(", ")))
+            super::Error::arg(
+                "trace",
+                t,
+                format!("FAMILY:K, FAMILY one of {}", names.join(", ")),
+            )
         };
         let (name, k) = t.split_once(':').ok_or_else(bad)?;
         let kind = families::Kind::from_name(name).ok_or_else(bad)?;
@@ -401,7 +405,13 @@ pub fn run(a: &Args) -> super::Outcome {
             bits: a.bits.unwrap_or(d.bits),
             ..d
         };
-        return Ok(families::trace(kind, Some(Drift::default()), spec, a.seed, k));
+        return Ok(families::trace(
+            kind,
+            Some(Drift::default()),
+            spec,
+            a.seed,
+            k,
+        ));
     }
     let z = if a.quick {
         families::Sizes::QUICK
@@ -410,7 +420,11 @@ pub fn run(a: &Args) -> super::Outcome {
     };
     if let Some(hours) = a.long_rest {
         if !(hours.is_finite() && (0.01..=10_000.0).contains(&hours)) {
-            return Err(super::Error::arg("long-rest", hours, "0.01..=10000 device-hours"));
+            return Err(super::Error::arg(
+                "long-rest",
+                hours,
+                "0.01..=10000 device-hours",
+            ));
         }
         let bar = super::progress(0, a.json, "");
         bar.set_message("long rest");

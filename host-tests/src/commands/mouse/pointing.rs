@@ -38,7 +38,8 @@ pub struct Continuous {
 /// 20 000 chords.
 fn figure_length(eight: bool, r: f64, total: f64) -> (f64, f64) {
     let steps = 20_000u32;
-    let p = |j: u32| crate::world::hand::figure(eight, r, total * f64::from(j) / f64::from(steps))[0];
+    let p =
+        |j: u32| crate::world::hand::figure(eight, r, total * f64::from(j) / f64::from(steps))[0];
     (0..steps).fold((0.0, 0.0), |(l2, l1), j| {
         let (a, b) = (p(j), p(j + 1));
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
@@ -265,4 +266,3 @@ impl Sizes {
         map: (6, 5, 2),
     };
 }
-
