@@ -143,11 +143,10 @@ mod tests {
             let fast = aliased_maxima(fs, tick, 80, los, tests);
             for (b, &lo) in los.iter().enumerate() {
                 for (k, test) in tests.iter().enumerate() {
-                    // A finer scan than the residues' grid (a sixth of it at 100 Hz, where
-                    // a lobe of 80 ticks is 1.25 Hz): the alias search may lose only the
-                    // grid's 0.12 % at a lobe's peak (the scan its own, up to 0.02 %), never
-                    // gain.
-                    let slow = scanned(fs, tick, lo, 0.005, test);
+                    // A finer scan than the residues' grid, 1/256 of the narrowest lobe
+                    // (80 ticks: f_t / 80): the alias search may lose only the grid's 0.12 %
+                    // at a lobe's peak (the scan its own 0.004 %), never gain.
+                    let slow = scanned(fs, tick, lo, f_t / 80.0 / 256.0, test);
                     let f = fast[b][k];
                     assert!(f <= slow * 1.0003, "fs {fs} lo {lo} test {k}: {f} > {slow}");
                     assert!(

@@ -14,6 +14,7 @@
 //! |---|---|---|
 //! | [`ticks`] | the tick stream: 5 ms sums of the raw codes and of the integrated samples, the hand-band filter, 20 ms blocks | the rate |
 //! | [`noise`] | the noise model (calibrated, learnt at rest) and the disturbance (knock, vibration) measured as it happens | calibration, rest |
+//! | [`gains`] | what a disturbance above each frequency can do through each test (computed with the settings) | the tests' windows |
 //! | [`rest`] | the rest statistic: when a motion starts, and where it began | a false-start budget |
 //! | [`estimator`] | when a motion ends: quiet, and its velocity explained by its own uncertainty | error rates |
 //! | [`tilt`] | a steady one-sided acceleration is a tilt, not a hand; the zero followed at rest | the longest stroke |
