@@ -1,7 +1,8 @@
 """CI check: the committed generated data is what its generators produce.
 
 - host-tests/data/reference_truth.csv == reference_truth.py's output, byte for byte;
-- the C3, C2, C1 arrays in host-tests/src/oracle/reference.rs == ar1_series.py's values.
+- the C3, C2, C1 arrays in host-tests/src/oracle/reference.rs == ar1_series.py's values;
+- core/tests/data/drift_settings.csv == drift_settings_truth.py's output, byte for byte.
 Run from the repository root with mpmath and sympy installed.
 """
 import pathlib
@@ -33,4 +34,8 @@ want = arrays(run("ar1_series.py"))
 got = arrays((root / "host-tests" / "src" / "oracle" / "reference.rs").read_text())
 if want != got:
     sys.exit(f"series coefficients in reference.rs differ from ar1_series.py: {want} vs {got}")
-print("generated data: reference_truth.csv and the C3/C2/C1 series match their generators")
+drift = (root / "core" / "tests" / "data" / "drift_settings.csv").read_text()
+if run("drift_settings_truth.py") != drift:
+    sys.exit("drift_settings.csv differs from drift_settings_truth.py's output")
+print("generated data: reference_truth.csv, the C3/C2/C1 series and drift_settings.csv match "
+      "their generators")

@@ -48,9 +48,13 @@ pub fn boxcar(n: u32, x: f64) -> f64 {
 }
 
 /// The largest of `gain(f)` [dimensionless] for `f` from `lo` to `hi` [Hz], on a
-/// [`STEP_HZ`] grid from `lo`.
+/// [`STEP_HZ`] grid from `lo`, and at `hi` itself (where a rising gain is largest); 0 if `hi
+/// < lo`.
 pub fn max_over(lo: f64, hi: f64, gain: impl Fn(f64) -> f64) -> f64 {
-    let mut best = 0.0f64;
+    if hi < lo {
+        return 0.0;
+    }
+    let mut best = gain(hi);
     let mut j = 0u32;
     loop {
         let f = lo + f64::from(j) * STEP_HZ;
@@ -169,6 +173,8 @@ mod tests {
     #[test]
     fn max_over_includes_both_ends() {
         assert_eq!(max_over(1.0, 2.0, |f| f), 2.0);
+        // An upper end off the grid.
+        assert_eq!(max_over(1.0, 2.1, |f| f), 2.1);
         assert_eq!(max_over(1.0, 2.0, |f| 3.0 - f), 2.0);
         assert_eq!(max_over(1.0, 0.5, |f| f), 0.0);
     }

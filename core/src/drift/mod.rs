@@ -118,13 +118,14 @@ impl Default for Drift {
     ///   plus the 5 ms tick within which the onset of a click's jolt is placed;
     /// - `knock_hz` 20: a desk top rings at 20-60 Hz, a machine at 30-100 Hz, a hand stays
     ///   below 10 Hz (REFERENCE (j));
-    /// - `stroke_max_s` 2 s: the longest pointing stroke of the hand model (issue 22);
+    /// - `stroke_max_s` 2 s: the longest pointing stroke of the hand model (docs/drift-control.md);
     /// - `glide_max_s` 4 s: the longest glide of the hand model's drags;
     /// - `lift_rise_s` 0.5 s: the slowest lift of the hand model;
     /// - `mount_tilt_deg` 5: a sensor soldered within 4 degrees of the case's floor and the
     ///   ADXL335's 1 % cross-axis sensitivity;
-    /// - `bias_tau_s` 2 s: the tracked zero lags a temperature ramp by `rate * tau`, far
-    ///   below a tick's sd for the ADXL335's drift; its own noise `ND / sqrt(2 tau)`;
+    /// - `bias_tau_s` 10 s: the tracked zero's own noise `ND / sqrt(2 tau)` (67 ug for the
+    ///   ADXL335: a drag's bias floor counts it), while it lags a temperature ramp by only
+    ///   `rate * tau`, far below a tick's sd for the ADXL335's drift;
     /// - `click_freeze_s` 0.15 s: the jolt of a click.
     fn default() -> Self {
         Self {
@@ -581,6 +582,74 @@ impl Drift {
 }
 
 impl DriftSettings {
+    /// Every derived coefficient by name and index, in its natural unit (ticks, blocks,
+    /// samples as integers; Q8 and Q16 values divided out): for reports, and for the test
+    /// that checks the derivation against an independent one (`host-tests/tools/
+    /// drift_settings_truth.py`).
+    pub fn for_each_derived(&self, mut f: impl FnMut(&'static str, usize, f64)) {
+        let q8 = |v: u64| v as f64 / 256.0;
+        let q16 = |v: u64| v as f64 / 65_536.0;
+        let n = |v: u32| f64::from(v);
+        f("tick", 0, n(self.tick));
+        f("block", 0, n(self.block));
+        for (i, &l) in self.band.iter().enumerate() {
+            f("band", i, n(l));
+        }
+        f("band_delay", 0, n(self.band_delay));
+        for (i, &m) in self.sub_blocks.iter().enumerate() {
+            f("sub_blocks", i, n(m));
+        }
+        f("land_blocks", 0, n(self.land_blocks));
+        f("land_timeout", 0, n(self.land_timeout));
+        for (i, &r) in self.bin_ratio_q16.iter().enumerate() {
+            f("bin_ratio", i, q16(r));
+        }
+        for (i, g) in self.gains.iter().enumerate() {
+            f("gain_band", i, q16(g.band_q16));
+            f("gain_quiet", i, q16(g.quiet_q16));
+            f("gain_sub_short", i, q16(g.sub_q16[0]));
+            f("gain_sub_long", i, q16(g.sub_q16[1]));
+            f("gain_land", i, q16(g.land_q16));
+            f("gain_velocity", i, q16(g.velocity_q16));
+            f("gain_displacement", i, g.displacement as f64);
+        }
+        f("pre_blocks", 0, n(self.pre_blocks));
+        f("fade_ticks", 0, n(self.fade_ticks));
+        f("glide_ticks", 0, n(self.glide_ticks));
+        f("dist_shift", 0, n(self.dist_shift));
+        f("dist_margin", 0, q8(self.dist_margin_q8));
+        f("dist_margin_short", 0, q8(self.dist_margin_short_q8));
+        f("burst_k2", 0, q8(self.burst_k2_q8));
+        for (i, &a) in self.alarm_q8.iter().enumerate() {
+            f("alarm", i, q8(a));
+        }
+        for (i, &k) in self.kappa_q8.iter().enumerate() {
+            f("kappa", i, k as f64 / 256.0);
+        }
+        f("lobe", 0, self.lobe_q8 as f64 / 256.0);
+        f("k2", 0, q8(self.k2_q8));
+        f("chi2", 0, self.chi2_q8 as f64 / 256.0);
+        f("inflation", 0, q8(self.inflation_q8));
+        f("hold", 0, self.hold as f64);
+        f("quiet_ticks", 0, n(self.quiet_ticks));
+        for (i, &b) in self.tilt_blocks.iter().enumerate() {
+            f("tilt_blocks", i, n(b));
+        }
+        if let Some(l) = &self.lift {
+            f("lift_window", 0, n(l.window));
+            f("lift_persist", 0, n(l.persist));
+            f("lift_k2", 0, q8(l.k2_q8));
+            f("lift_mount", 0, q16(l.mount_q16));
+            f("lift_cube", 0, l.cube as f64);
+            f("lift_cube_4_3", 0, l.cube_4_3 as f64);
+        }
+        if let Some(b) = self.bias_samples_max {
+            f("bias_samples_max", 0, b as f64);
+        }
+        f("freeze", 0, n(self.freeze));
+        f("arl_ticks", 0, self.arl_ticks as f64);
+    }
+
     /// Samples per detector tick.
     pub const fn tick_samples(&self) -> u32 {
         self.tick

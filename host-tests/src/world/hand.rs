@@ -5,7 +5,7 @@
 //! "Model only what a scene needs": a [`Scenario`] is a list of [`Motion`]s, each a small
 //! type that adds a world-frame acceleration and a device tilt at time `t`, plus the button's
 //! edges; a [`Sensor`] turns the sum into ADC codes. Families of randomised scenarios (the
-//! `cargo lab mouse` families) draw their parameters from the ranges of issue 22 and compose
+//! `cargo lab mouse` families) draw their parameters from the ranges in docs/drift-control.md and compose
 //! only the motions they study.
 //!
 //! | motion | type | model |

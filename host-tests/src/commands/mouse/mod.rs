@@ -351,7 +351,8 @@ pub struct Args {
     /// Print JSON instead of the table.
     #[arg(long)]
     pub json: bool,
-    /// Only the hand model's families (issue 22).
+    /// Only the hand model's families and the rate and sensor sweeps (no desk scene, circles
+    /// or map).
     #[arg(long)]
     pub families: bool,
     /// Trace one trial of a family, `FAMILY:K` (e.g. `drags:17`): every change of drift
@@ -367,7 +368,7 @@ pub struct Args {
     /// The traced device's ADC resolution [bits].
     #[arg(long, requires = "trace")]
     pub bits: Option<u8>,
-    /// The long-rest benchmark (target 6): this many device-hours at rest on each of the two
+    /// The long-rest benchmark: this many device-hours at rest on each of the two
     /// sensors (the ADXL335 with its bias walk, and 100 ug/sqrt(Hz) on 12 bits), `0.01..=10000`.
     #[arg(long, value_name = "HOURS")]
     pub long_rest: Option<f64>,

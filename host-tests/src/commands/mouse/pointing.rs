@@ -1,5 +1,5 @@
 //! `cargo lab mouse`, the pointing scenes the hand model's families do not cover: continuous
-//! circles and figure eights (issue 22's target 7: they close within 5 %), and the map of
+//! circles and figure eights (target 7: they close within 5 %), and the map of
 //! which strokes the mouse carries over length and duration.
 //!
 //! Both run on the families' device ([`super::families::Device`]): the board's ADXL335 at

@@ -1,0 +1,177 @@
+"""Drift control's derived coefficients, computed independently of the core.
+
+A second derivation, written from the module docs of core/src/drift (REFERENCE (i), (j)),
+not from its code paths: the CUSUM alarms solved with mpmath's root finder instead of a
+bisection, the lift test's sd multiple from mpmath's normal tail, and the disturbance's
+gains by a brute-force scan of every frequency from each bin's edge to Nyquist (1/64 of the
+narrowest lobe) instead of the core's one tick period of aliased residues. Prints
+core/tests/data/drift_settings.csv: `config,name,index,value`, values in natural units
+(the real value before the core rounds it to Q8 or Q16). core/tests/drift_settings.rs holds
+the core to it; host-tests/tools/check_generated.py checks that the file is this script's
+output. Run: python3 host-tests/tools/drift_settings_truth.py > core/tests/data/drift_settings.csv
+"""
+import math
+
+import mpmath
+
+mpmath.mp.dps = 40
+
+BINS = 6
+RING = 64
+BLOCKS = 64
+BLOCK_S = 0.02
+
+TUNING = dict(k_sd=3.0, chi2=11.83, kappa=(0.5, 1.5), lobe_sd=5.0, sub_s=(0.1, 0.4),
+              hold_fraction=0.125, fade_fraction=0.125, confirm_fraction=0.5, quiet_s=0.02,
+              disturbance_s=0.16, disturbance_sigmas=3.0, lift_window=0.605,
+              q_inflation_sd=2.0)
+DEFAULT = dict(false_start_hours=1e4, hold_s=0.016, knock_hz=20.0, stroke_max_s=2.0,
+               glide_max_s=4.0, lift_rise_s=0.5, mount_tilt_deg=5.0, bias_tau_s=10.0,
+               click_freeze_s=0.15)
+# Every limit changed at once, at rates with one sample per tick, a ragged tick and the
+# extremes: core/tests/drift_settings.rs builds the same configurations.
+VARIANT = dict(false_start_hours=100.0, hold_s=0.01, knock_hz=35.0, stroke_max_s=1.2,
+               glide_max_s=2.5, lift_rise_s=0.3, mount_tilt_deg=2.0, bias_tau_s=3.0,
+               click_freeze_s=0.1)
+CONFIGS = [("default", DEFAULT, fs) for fs in (100, 1001, 3000, 20000)] + [
+    ("variant", VARIANT, fs) for fs in (500, 3000)]
+
+
+def rnd(x):
+    """Round half up (the core's round_to_u64)."""
+    return math.floor(x + 0.5)
+
+
+def boxcar(n, x):
+    s = math.sin(math.pi * x)
+    if abs(s) < 1e-12:
+        return 1.0
+    return abs(math.sin(math.pi * n * x) / (n * s))
+
+
+def cusum_b(kappa, arl):
+    """b with (e^(2 kappa b) - 1 - 2 kappa b) / (2 kappa^2) = arl (Siegmund)."""
+    k = mpmath.mpf(kappa)
+    f = lambda b: (mpmath.expm1(2 * k * b) - 2 * k * b) / (2 * k * k) - arl
+    guess = mpmath.log(2 * k * k * arl) / (2 * k)
+    return float(mpmath.findroot(f, guess))
+
+
+def z_upper(p):
+    """z with P(Z > z) = p."""
+    return float(mpmath.findroot(lambda z: mpmath.erfc(z / mpmath.sqrt(2)) / 2 - p, 5))
+
+
+def derive(d, fs):
+    t = TUNING
+    out = []
+
+    def put(name, value, i=0):
+        out.append((name, i, value))
+
+    tick = min(max(-(-fs * 5 // 1000), 1), 1 << 14)
+    tick_s = tick / fs
+    f_t = 1 / tick_s
+    l1 = max(rnd(1 / (d["knock_hz"] * tick_s)), 1)
+    l2 = max(rnd(2 / (3 * d["knock_hz"] * tick_s)), 1)
+    assert l1 + l2 <= RING - 2
+    block = max(rnd(BLOCK_S / tick_s), 1)
+    block_s = block * tick_s
+    sub = [max(rnd(w / block_s), 1) for w in t["sub_s"]]
+    hold_blocks = max(rnd(d["stroke_max_s"] * t["hold_fraction"] / block_s), 1)
+    confirm = rnd(d["stroke_max_s"] * t["confirm_fraction"] / block_s)
+    land = max(hold_blocks, 3)
+    quiet = max(rnd(t["quiet_s"] / tick_s), 1)
+    put("tick", tick)
+    put("block", block)
+    put("band", l1, 0)
+    put("band", l2, 1)
+    put("band_delay", (l1 + l2 - 2) // 2)
+    put("sub_blocks", sub[0], 0)
+    put("sub_blocks", sub[1], 1)
+    put("land_blocks", land)
+    put("land_timeout", rnd(d["stroke_max_s"] / tick_s))
+
+    # The disturbance's bins and gains.
+    nyq = fs / 2
+    hi = max(f_t / 2, d["knock_hz"])
+    edge = lambda k: d["knock_hz"] * (hi / d["knock_hz"]) ** (k / BINS)
+    for k in range(BINS - 1):
+        put("bin_ratio", 4 * math.sin(math.pi * edge(k + 1) / f_t) ** 2, k)
+    windows = [quiet, sub[0] * block, sub[1] * block, (land // 3) * block]
+    tests = [lambda x: boxcar(l1, x) * boxcar(l2, x)] + [
+        (lambda n: lambda x: boxcar(n, x))(n) for n in windows]
+    step = f_t / max(windows + [l1]) / 64
+    sample_box = lambda f: boxcar(tick, f / fs)
+    top = max(min(nyq, 0.8 * f_t), d["knock_hz"])
+    for b in range(BINS):
+        lo = min(edge(b), nyq)
+        # Closed ranges: the grid and both ends.
+        grid = lambda a, z: [a + n * step for n in range(int((z - a) / step) + 1)] + [z]
+        best = [0.0] * len(tests)
+        for f in grid(lo, nyq):
+            s = sample_box(f)
+            for i, g in enumerate(tests):
+                best[i] = max(best[i], s * g(f / f_t))
+        vel = disp = 0.0
+        for f in grid(edge(b), max(top, edge(b))):
+            s = max(sample_box(f), 1e-3)
+            w = fs / (2 * math.pi * f)
+            vel = max(vel, w / (tick * s))
+            disp = max(disp, w * w / (tick * s))
+        for name, v in zip(["gain_band", "gain_quiet", "gain_sub_short", "gain_sub_long",
+                            "gain_land"], best):
+            put(name, v, b)
+        put("gain_velocity", vel, b)
+        put("gain_displacement", 4 * disp, b)
+
+    put("pre_blocks", max(math.ceil(1 / d["knock_hz"] / block_s), 2))
+    put("fade_ticks", max(rnd(d["stroke_max_s"] * t["fade_fraction"] / tick_s), 1))
+    put("glide_ticks", rnd(d["glide_max_s"] / tick_s))
+    shift = min(max(rnd(math.log2(t["disturbance_s"] / tick_s)), 3), 10)
+    margin = lambda k: 1 + t["disturbance_sigmas"] * math.sqrt(2 / 2 ** k)
+    put("dist_shift", shift)
+    put("dist_margin", margin(shift))
+    put("dist_margin_short", margin(shift - 2))
+    put("burst_k2", t["disturbance_sigmas"] ** 2)
+    # Eight one-sided CUSUMs share the false-start budget.
+    arl = d["false_start_hours"] * 3600 / tick_s * 8
+    put("alarm", cusum_b(t["kappa"][0], arl), 0)
+    put("alarm", max(cusum_b(t["kappa"][1], arl) - 1.166, 0.0), 1)
+    put("kappa", t["kappa"][0], 0)
+    put("kappa", t["kappa"][1], 1)
+    put("lobe", t["lobe_sd"])
+    put("k2", t["k_sd"] ** 2)
+    put("chi2", t["chi2"])
+    put("inflation", t["q_inflation_sd"])
+    put("hold", rnd(d["hold_s"] * fs))
+    put("quiet_ticks", quiet)
+    put("tilt_blocks", hold_blocks, 0)
+    put("tilt_blocks", confirm, 1)
+    # The lift test: a window of 0.605 of the slowest rise, one false lift per budget.
+    window = max(rnd(d["lift_rise_s"] * t["lift_window"] / tick_s), 2)
+    assert window < RING
+    chances = d["false_start_hours"] * 3600 / (window * tick_s)
+    k = z_upper(0.5 / chances)
+    n = window * tick
+    put("lift_window", window)
+    put("lift_persist", max(math.ceil(0.5 / d["knock_hz"] / tick_s), 1))
+    put("lift_k2", k * k)
+    put("lift_mount", math.sin(math.radians(d["mount_tilt_deg"])))
+    put("lift_cube", n ** 3)
+    put("lift_cube_4_3", 4 * n ** 3 // 3)
+    put("bias_samples_max", max(rnd(d["bias_tau_s"] * fs), 1))
+    put("freeze", rnd(d["click_freeze_s"] * fs))
+    put("arl_ticks", rnd(d["false_start_hours"] * 3600 / tick_s))
+    return out
+
+
+def main():
+    print("config,name,index,value")
+    for name, d, fs in CONFIGS:
+        for field, i, v in derive(d, fs):
+            print(f"{name}@{fs},{field},{i},{v!r}")
+
+
+if __name__ == "__main__":
+    main()
