@@ -326,3 +326,14 @@ fn windows_that_do_not_fit_the_rings_are_refused() {
     assert_eq!(lift(0.63), None);
     assert_eq!(lift(0.64), Some(DriftError::Lift));
 }
+
+#[test]
+fn the_cusum_run_length_is_siegmunds() {
+    // (e^(2 kappa b) - 1 - 2 kappa b) / (2 kappa^2), at small arguments where each term
+    // counts.
+    let e = std::f64::consts::E;
+    let arl = imu_core::drift::cusum_arl(0.5, 1.0);
+    assert!((arl - 2.0 * (e - 2.0)).abs() < 1e-12, "{arl}");
+    let arl = imu_core::drift::cusum_arl(1.5, 2.0);
+    assert!((arl - (e.powi(6) - 7.0) / 4.5).abs() < 1e-9, "{arl}");
+}

@@ -1,5 +1,5 @@
-//! Issue 22's targets on the hand model's families, small scenes, each with a control that
-//! fails: the rule the family exercises switched off.
+//! The targets of docs/drift-control.md on the hand model's families, small scenes, each
+//! with a control that fails: the rule the family exercises switched off.
 //!
 //! # Tolerances, from the trial count
 //! A family of `n` trials that meets "at least `p` within" exactly would show a fraction
@@ -117,9 +117,9 @@ fn a_tilting_pad_is_held_soon_and_stopped_and_a_late_hold_runs_away() {
 
 #[test]
 fn strokes_after_a_tilt_arrive() {
-    // Target 3: a stroke 0.1-2 s after a pad tilt or a set-down. Measured 86.5 % of 200 in
-    // the full family (issue 22 asks 90 %: see docs/drift-control.md); asserted at what 60
-    // trials of an 85 % process show but for 0.1 %.
+    // Target 3: a stroke 0.1-2 s after a pad tilt or a set-down. Measured 86 % of 200 in
+    // the full family (the target is 90 %: missed, see docs/drift-control.md); asserted at
+    // what 60 trials of an 85 % process show but for 0.1 %.
     let n = 60;
     let f = run(Kind::AfterTilt, Drift::default(), n, 7);
     assert!(f.within >= least_within(0.85, n), "{:.3} within", f.within);
@@ -150,11 +150,59 @@ fn knocks_that_flex_the_desk_move_nothing() {
     assert!(median_within(&f, 0.0003), "{:?}", f.error_mm);
 }
 
+/// The cursor over each of `n` hard knocks, one at a time, 1 s after the device's
+/// calibration: its travel during the knock and its distance from the start 1.5 s later [m].
+/// Each knock flexes the desk by 150-200 um, 60 % of it horizontal, so that it moves the
+/// device by 2.8 to 3.8 counts and back (800 cpi).
+fn hard_knocks(n: usize) -> Vec<(f64, f64)> {
+    use host_tests::world::hand::{Motion, Scenario, G};
+    use rand::{Rng, SeedableRng};
+    let dev = families::board_device(Some(Drift::default()), 12);
+    let mut rng = rand::rngs::StdRng::seed_from_u64(12);
+    (0..n)
+        .map(|k| {
+            let knock = Motion::Knock {
+                t0: 1.0,
+                peak: rng.random_range(0.3..0.5) * G,
+                f: rng.random_range(20.0..60.0),
+                periods: rng.random_range(1.0..3.0),
+                flex: rng.random_range(150e-6..200e-6),
+                share: 0.6,
+                dir: rng.random_range(0.0..std::f64::consts::TAU),
+            };
+            let sc = Scenario {
+                motions: vec![knock],
+                edges: vec![],
+                seconds: 2.5,
+            };
+            let p = families::run(&dev, &sc, 100 + k as u64);
+            let (a, b) = (p.at(1.0), p.at(2.5));
+            (p.travel(1.0, 2.5), (b[0] - a[0]).hypot(b[1] - a[1]))
+        })
+        .collect()
+}
+
+#[test]
+fn hard_knocks_move_the_cursor_out_and_back() {
+    // Target 4 on knocks that move the device by several counts. The cursor follows such a
+    // knock's flex (the device did move: no rule holds it back, docs/drift-control.md) and
+    // comes back: the median knock's travel is at most 0.3 mm (measured 0.29 mm, 0.86 mm at
+    // most, on these 20), and the median knock leaves the cursor within 0.3 mm of where it
+    // was (measured 1 count; 4 at most).
+    let r = hard_knocks(20);
+    let mut travel: Vec<f64> = r.iter().map(|t| t.0).collect();
+    travel.sort_by(f64::total_cmp);
+    assert!(travel[10] <= 0.3e-3, "median travel {} m", travel[10]);
+    let mut end: Vec<f64> = r.iter().map(|t| t.1).collect();
+    end.sort_by(f64::total_cmp);
+    assert!(end[10] <= 0.3e-3, "median end {} m", end[10]);
+}
+
 #[test]
 fn strokes_with_knocks_arrive_and_without_the_disturbance_allowance_they_are_lost() {
     let n = 60;
     let f = run(Kind::KnockyStrokes, Drift::default(), n, 9);
-    assert!(f.within >= least_within(0.85, n), "{:.3} within", f.within);
+    assert!(f.within >= least_within(0.9, n), "{:.3} within", f.within);
     // Control: blind to the disturbance (its margin so wide that nothing exceeds it): a
     // knock's ring is taken for a lift or a start.
     let c = run(
