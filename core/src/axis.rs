@@ -257,4 +257,25 @@ mod tests {
             assert_eq!(by_block, by_sample, "W = {w}");
         }
     }
+
+    #[test]
+    fn a_motion_integrated_elsewhere_and_a_carried_velocity_replace_only_the_integrator() {
+        // Drift control replays a motion's onset against a new zero and hands the axis the
+        // result, or starts a motion with the velocity a glide carried: the integrator is
+        // replaced, the bias and the filter stay.
+        let settings = Config::default().validate().expect("valid");
+        let mut axis = Axis::new(2048 << 16);
+        for x in [2050, 2047, 2049] {
+            axis.update(&settings, AdcCode(x));
+        }
+        let (bias, last) = (axis.bias_q16(), axis.last_code());
+        let state = IntegratorState::with_velocity(12_345 << 16);
+        axis.set_integrator(state);
+        assert_eq!(*axis.integrator(), state);
+        assert_eq!((axis.bias_q16(), axis.last_code()), (bias, last));
+        axis.set_velocity(-(7 << 16));
+        assert_eq!(axis.integrator().velocity(), -(7 << 16));
+        assert_eq!(axis.integrator().position(), state.position());
+        assert_eq!((axis.bias_q16(), axis.last_code()), (bias, last));
+    }
 }

@@ -46,7 +46,8 @@ pub struct Calibration {
     /// Floored at 1/4 LSB^2 and at half of [`Self::tick_var_q32`].
     pub long_run_var_q32: u64,
     /// Lag-1, lag-2 and lag-3 covariances of the tick sums divided by the tick's length
-    /// [LSB^2 per sample, Q32, signed; 0 with fewer than 4 ticks]: with
+    /// [LSB^2 per sample, Q32, signed, saturating at `±(2^63 - 1)`; 0 with fewer than 4
+    /// ticks]: with
     /// [`Self::tick_var_q32`] they give the noise of any short linear combination of tick
     /// sums (drift control's disturbance estimate).
     pub tick_lags_q32: [i64; 3],
@@ -269,8 +270,8 @@ impl Calibrator {
         (g0.max(FLOOR), long.max(g0 / 2).max(FLOOR))
     }
 
-    /// `g_l / D` for `l = 1, 2, 3` in LSB^2 per sample, Q32, signed, not floored; zeros with
-    /// fewer than 4 ticks.
+    /// `g_l / D` for `l = 1, 2, 3` in LSB^2 per sample, Q32, signed, rounded toward zero and
+    /// saturating at `±(2^63 - 1)`, not floored; zeros with fewer than 4 ticks.
     fn tick_lags(&self) -> [i64; 3] {
         let Some(c) = self.centred_lags() else {
             return [0; 3];
@@ -278,11 +279,7 @@ impl Calibrator {
         core::array::from_fn(|i| {
             let v = c[i + 1];
             let mag = self.per_sample_q32(v.abs()).min(i64::MAX as u64) as i64;
-            if v < 0 {
-                -mag
-            } else {
-                mag
-            }
+            mag * v.signum() as i64
         })
     }
 }
@@ -347,6 +344,22 @@ mod tests {
         assert!((ratio - 2.0).abs() < 0.01, "{ratio}");
     }
 
+    /// The lag-`l` covariance of `codes`' tick sums per sample, `C_l / (k D)`, in f64 (see
+    /// [`Calibration::tick_lags_q32`]); 0 with fewer than 4 ticks.
+    fn tick_lag_f64(codes: &[u16], tick: usize, l: usize) -> f64 {
+        let t: Vec<f64> = codes
+            .chunks_exact(tick)
+            .map(|c| c.iter().map(|&x| f64::from(x)).sum())
+            .collect();
+        if t.len() < 4 {
+            return 0.0;
+        }
+        let k = t.len() as f64;
+        let m = t.iter().sum::<f64>() / k;
+        let c: f64 = (l..t.len()).map(|i| (t[i] - m) * (t[i - l] - m)).sum();
+        c / (k * tick as f64)
+    }
+
     /// The tick variances of `codes` in f64 from their definition (see [`Calibration`]):
     /// tick sums `t`, centred lag sums `C_l = sum (t[i] - m)(t[i-l] - m)`, `g_l = C_l / k`,
     /// per sample `/ tick`; floored at 1/4 LSB^2, the long-run one also at half the tick one.
@@ -409,6 +422,18 @@ mod tests {
                     "case {case}: tick {tick}, {ticks} ticks: {got} against {want}"
                 );
             }
+            // The signed lags, rounded toward zero: lag l of the f64 definition.
+            let lags = c.tick_lags();
+            for (l, &got) in lags.iter().enumerate() {
+                let got = got as f64 / 2f64.powi(32);
+                let sat = i64::MAX as f64 / 2f64.powi(32);
+                let want = tick_lag_f64(&codes, tick, l + 1).clamp(-sat, sat);
+                assert!(
+                    (got - want).abs() <= 1e-9 * want.abs() + 2f64.powi(-32),
+                    "case {case}: lag {}: {got} against {want}",
+                    l + 1
+                );
+            }
         }
     }
 
@@ -436,11 +461,17 @@ mod tests {
         }
         let (t, _) = c.tick_variances();
         assert_eq!(t, 1_000_000 << 32, "g0 = 4 ticks of 1000^2 / 4");
+        // Deviations -1000, 1000, -1000, 1000: C_1 = -3e6, C_2 = 2e6, C_3 = -1e6, over k D = 4.
+        assert_eq!(
+            c.tick_lags(),
+            [-750_000 << 32, 500_000 << 32, -250_000 << 32]
+        );
         let mut c = Calibrator::new(3, u64::MAX, 12, 1);
         for x in [1000, 3000, 1000] {
             c.push(AdcCode(x));
         }
         assert_eq!(c.tick_variances(), (1 << 30, 1 << 30));
+        assert_eq!(c.tick_lags(), [0; 3]);
     }
 
     #[test]

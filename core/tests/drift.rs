@@ -266,9 +266,11 @@ fn a_tilt_stops_within_half_a_second_and_becomes_the_new_zero() {
     let mut n = Noise(Trace::new(5));
     let runaway = run(&mut t, 3300 + 1500, |i| tilt(i, &mut n));
     assert!(runaway[0] > 0, "{runaway:?}");
+    assert!(t.is_holding(), "0.5 s after the tilt its motion is held");
     let after = run(&mut t, 30_000, |i| tilt(i + 4800, &mut n));
     assert_eq!(after, [0, 0, 0]);
     assert!(t.is_still(), "{:?}", t.drift_state());
+    assert!(!t.is_holding(), "at rest nothing is held");
     assert_eq!(t.counters().rebiases, 1);
     let bias = t.axes()[0].bias_q16() as f64 / 65_536.0;
     assert!((bias - 2062.0).abs() < 0.1, "bias {bias}");
@@ -623,4 +625,60 @@ fn without_a_click_freeze_a_click_stops_the_motion_at_once() {
         Some(DriftState::Still),
         "at rest it stays at rest"
     );
+}
+
+#[test]
+fn a_stroke_during_a_tilts_hold_never_delivers_the_tilts_runaway() {
+    // The desk tilts by 2 degrees within 0.1 s (X reads 14 LSB more) and stays; 0.3 to 1 s
+    // later, while the tilt's motion is held, a hand strokes (two sine lobes of 20 or 40 LSB
+    // over 0.5 s), its first lobe along the tilt. The tilt's runaway, many metres by the time
+    // anything ends, must never be delivered: the cursor may be off the stroke by at most
+    // the stroke itself and what the tilt alone runs before its hold. (The runs that decide
+    // between the tilt and the stroke once went uncounted while the stroke's shadow ran, and
+    // the held runaway was delivered: 55 000 counts.)
+    let run_scene = |tilted: bool, start: f64, amp: f64| {
+        let scene = move |i: usize, n: &mut Noise| {
+            let t = (i as f64 - start) / 3000.0;
+            let stroke = if (0.0..0.5).contains(&t) {
+                amp * (core::f64::consts::TAU * t / 0.5).sin()
+            } else {
+                0.0
+            };
+            let f = ((i as f64 - 3000.0) / 300.0).clamp(0.0, 1.0);
+            let x = 2048.0 + if tilted { 14.0 * f } else { 0.0 } + stroke;
+            [n.code(x.round() as u16), n.code(2048), n.code(2048)]
+        };
+        let mut t = tracker(Some(Drift::default()));
+        let mut n = Noise(Trace::new(5));
+        let total = run(&mut t, 20_000, |i| scene(i, &mut n));
+        assert!(t.is_still(), "{:?}", t.drift_state());
+        (total[0], t.counters())
+    };
+    let alone = run_scene(true, 1e9, 0.0).0;
+    assert!(alone > 0, "the tilt runs before its hold: {alone}");
+    for start in [3900.0, 4200.0, 4500.0, 5100.0, 6000.0] {
+        for amp in [20.0, 40.0] {
+            let stroke = run_scene(false, start, amp).0;
+            let both = run_scene(true, start, amp).0;
+            assert!(
+                (both - stroke).abs() <= stroke.abs() + alone,
+                "start {start}, {amp} LSB: {both} counts, the stroke alone {stroke}, the tilt alone {alone}"
+            );
+        }
+    }
+    // A stroke 0.9 s after the tilt: its shadow (integrated against the tilt's level) comes
+    // to rest first and replaces the held motion, so the cursor moves by the stroke plus the
+    // tilt's run before its hold. The level is a mean of 0.3 s (900 samples of 1 LSB^2:
+    // sd 0.033 LSB, 0.2 % of a 20 LSB stroke's peak); bound 1 % and 2 counts of rounding.
+    for amp in [20.0, 40.0] {
+        let stroke = run_scene(false, 6000.0, amp).0;
+        let (both, counters) = run_scene(true, 6000.0, amp);
+        let want = stroke + alone;
+        // The held motion dropped once, the tilt's level the new zero once.
+        assert_eq!((counters.discarded, counters.rebiases), (1, 1), "{amp} LSB");
+        assert!(
+            (both - want).abs() <= stroke.abs() / 100 + 2,
+            "{amp} LSB: {both} counts, want {want}"
+        );
+    }
 }

@@ -306,6 +306,7 @@ fn windows_that_do_not_fit_the_rings_are_refused() {
     // over; of 16 they do not.
     assert_eq!(short(0.3), None);
     assert_eq!(short(0.32), Some(DriftError::Stroke));
+    assert_eq!(short(0.6), Some(DriftError::Stroke));
     // The hand band at 3 kHz: boxcars of 1 / knock_hz and two thirds of it, at most 62
     // ticks together (37 + 25 at 5.4 Hz; 38 + 25 at 5.3 Hz).
     let knock = |k: f64| {

@@ -272,3 +272,26 @@ fn every_family_has_its_name_and_a_trace() {
     );
     assert!(t.contains("Moving") && t.contains("end: cursor"), "{t}");
 }
+
+#[test]
+fn the_long_rest_table_says_missed_when_anything_moved() {
+    let rest = |counts: i64, moved: usize| families::LongRest {
+        sensor: "s".into(),
+        devices: 20,
+        hours_each: 10.0,
+        false_starts: moved as u64,
+        devices_moved: moved,
+        counts,
+        predicted_false_starts: 0.02,
+    };
+    let quiet = families::long_rest_table(&[rest(0, 0), rest(0, 0)]);
+    assert!(
+        quiet.contains("0 counts: met (0 devices moved, 0 counts)"),
+        "{quiet}"
+    );
+    let moved = families::long_rest_table(&[rest(0, 0), rest(151, 3)]);
+    assert!(
+        moved.contains("MISSED (3 devices moved, 151 counts)"),
+        "{moved}"
+    );
+}

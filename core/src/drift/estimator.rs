@@ -194,6 +194,9 @@ impl Detector {
         // A tilt's shadow: the end that comes first decides, one the data tell from the other
         // ([`super::tilt`]).
         if let Some(w) = shadow {
+            if self.stream.block_closed() {
+                self.shadow_block(s, bias);
+            }
             if let Some(action) = self.shadow_decision(s, bias, w, quiet, explained) {
                 return action;
             }
@@ -228,5 +231,35 @@ impl Detector {
             return self.tilt_block(s, bias);
         }
         Action::None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_two_axes_add_up_in_the_chi_square() {
+        // Bound 8 (Q8 2048): each axis 2.5 sd (6.25) passes alone; together 12.5 fail.
+        let b = 8 * 256;
+        let v = [100u128 * 100; 2];
+        assert!(explained_2d(b, [250, 0], v, [0, 0]));
+        assert!(explained_2d(b, [0, 250], v, [0, 0]));
+        assert!(!explained_2d(b, [250, 250], v, [0, 0]));
+        // At the bound exactly: explained; just past it: not.
+        assert!(explained_2d(b, [200, 200], v, [0, 0]));
+        assert!(!explained_2d(b, [201, 200], v, [0, 0]));
+        // The allowance comes off each offset first: 400 - 130 is 2.7 sd (7.3), 400 is 16.
+        assert!(explained_2d(b, [400, 0], v, [130, 0]));
+        assert!(!explained_2d(b, [400, 0], v, [0, 0]));
+        assert!(explained_2d(b, [0, -400], v, [0, 130]));
+    }
+
+    #[test]
+    fn the_quotient_is_exact_in_either_width() {
+        assert_eq!(quotient(1000, 7), 142);
+        let big = (1u128 << 100) + 12_345;
+        assert_eq!(quotient(big, 1 << 40), big >> 40);
+        assert_eq!(quotient(1 << 70, 3), (1u128 << 70) / 3);
     }
 }

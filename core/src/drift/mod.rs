@@ -435,11 +435,12 @@ impl Drift {
         let confirm = round(self.stroke_max_s * t.confirm_fraction / block_s) as u32;
         // The landing window (lift.rs): the hold's, in thirds.
         let land_blocks = hold_blocks.max(3);
-        // The tilt tests look back over four short sub-windows and one long one.
-        if land_blocks as usize > BLOCKS - 1
-            || 4 * sub_blocks[0] as usize > BLOCKS - 1
-            || sub_blocks[1] as usize > BLOCKS - 1
-        {
+        // The tilt tests look back over four short sub-windows and one long one, the landing
+        // over its window: at most `BLOCKS - 1` complete blocks of the ring. (Within the
+        // tuning's ranges only the short sub-windows can reach it; the others are kept so
+        // that a wider range cannot index past the ring.)
+        let looked_back = [land_blocks, 4 * sub_blocks[0], sub_blocks[1]];
+        if looked_back.into_iter().max().unwrap_or(0) >= BLOCKS as u32 {
             return Err(DriftError::Stroke);
         }
         if !within(self.glide_max_s, 0.0, 60.0) {
@@ -482,10 +483,11 @@ impl Drift {
         // Gains at and above each frequency bin of the disturbance, up to Nyquist (ticks and
         // windows average within a tick): what a sinusoid of tick-sum amplitude A can do
         // through each test (noise.rs).
-        let nyq = fs / 2.0;
         let sample_box = |f: f64| boxcar(tick, f / fs);
         let quiet_ticks = round(t.quiet_s / tick_s).max(1) as u32;
-        let top = nyq.min(0.8 * f_tick).max(self.knock_hz);
+        // (With one sample a tick, 0.8 of the tick rate is past Nyquist; the gains there
+        // only fall with frequency, so the range's top does not bind.)
+        let top = (0.8 * f_tick).max(self.knock_hz);
         let edge = |k: usize| {
             let hi = (f_tick / 2.0).max(self.knock_hz);
             self.knock_hz * libm::pow(hi / self.knock_hz, k as f64 / noise::BINS as f64)
@@ -509,7 +511,7 @@ impl Drift {
             .max(land_blocks / 3 * block)
             .max(l1)
             .max(quiet_ticks);
-        let aliased = gains::aliased_maxima(fs, tick, longest, los.map(|lo| lo.min(nyq)), tests);
+        let aliased = gains::aliased_maxima(fs, tick, longest, los, tests);
         let gains: [noise::Gains; noise::BINS] = core::array::from_fn(|k| {
             let lo = los[k];
             let [band, quiet, sub0, sub1, land] = aliased[k];

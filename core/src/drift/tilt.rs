@@ -163,8 +163,21 @@ impl Detector {
         })
     }
 
-    /// The tilt tests at a block's end while moving.
-    pub(crate) fn tilt_block(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+    /// At a block's end while a shadow runs: the runs go on counting (the end the shadow
+    /// waits for is judged on them), and a run long enough to confirm a tilt makes the shadow
+    /// certain, so that at its timeout the tilt's zero wins, not the held motion.
+    pub(crate) fn shadow_block(&mut self, s: &DriftSettings, bias: [i64; 3]) {
+        self.count_block(s, bias);
+        let sided = self.one_sided_blocks(s);
+        if sided.iter().any(|&b| b > s.tilt_blocks[1]) {
+            if let Some(shadow) = &mut self.tilt.shadow {
+                shadow.3 = true;
+            }
+        }
+    }
+
+    /// Each scale's run on X and Y, extended or restarted by the block just closed.
+    fn count_block(&mut self, s: &DriftSettings, bias: [i64; 3]) {
         for scale in 0..2 {
             for (a, &b) in bias.iter().enumerate().take(2) {
                 let sign = self.sub_sign(s, scale, a, 0, b);
@@ -183,6 +196,14 @@ impl Detector {
                     _ => (sign, 1),
                 };
             }
+        }
+    }
+
+    /// The tilt tests at a block's end while moving (the runs counted already when a shadow
+    /// runs: [`Self::shadow_block`]).
+    pub(crate) fn tilt_block(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        if self.tilt.shadow.is_none() {
+            self.count_block(s, bias);
         }
         let hold = s.tilt_blocks[0];
         let sided = self.one_sided_blocks(s);
