@@ -26,6 +26,20 @@ pub const fn rate_accepted(fs_hz: u32, clock_hz: u32) -> bool {
     fs_hz >= FS_MIN_HZ && fs_hz <= FS_MAX_HZ && clock_hz.is_multiple_of(fs_hz)
 }
 
+/// The independent watchdog's timeout as programmed [ms], for the LSI's nominal 32 kHz (the
+/// HAL's assumption). It must outlast the longest stretch in which housekeeping cannot feed
+/// it: a save, which runs synchronously at housekeeping's priority and stalls the CPU during
+/// each erase. `app/tests/store.rs` budgets the worst saves against [`WATCHDOG_MIN_MS`]: the
+/// page move about 2.4 s (one erase at 800 ms, 1.3 MB read through the CRC), the first save
+/// over old code about 1.8 s (two erases). The price: a hung device resets after 5 s, up
+/// to 9.4 s with the slowest LSI (17 kHz).
+pub const WATCHDOG_MS: u32 = 5000;
+
+/// The shortest the watchdog's timeout can be [ms]: the F411's LSI runs at 17 to 47 kHz
+/// (DS10314, LSI characteristics), so the count programmed for 32 kHz may last only 32/47 of
+/// [`WATCHDOG_MS`].
+pub const WATCHDOG_MIN_MS: u32 = WATCHDOG_MS * 32 / 47;
+
 /// Sample triples per DMA block at `fs_hz` [Hz]: 1 ms of samples, rounded down, at least
 /// one. A block lasts exactly 1 ms only when `fs_hz` is a multiple of 1 kHz; otherwise
 /// `block / fs_hz` (at 1500 Hz one sample is 0.67 ms, at 150 Hz 6.7 ms).

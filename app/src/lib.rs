@@ -16,6 +16,7 @@
 //! | [`control`] | a request from the bus through [`commands`] to the tracker and stream |
 //! | [`stream`] | raw ADC codes queued and cut into stream frames |
 //! | [`store`] | the profile in flash (sequential-storage) |
+//! | [`flash`] | the flash interface's erase and program sequences |
 //! | [`sampling`] | a DMA block into the tracker (or the suspend probe) |
 //! | [`housekeeping`] | KEY, power, LED, log schedule every 1 ms |
 //! | [`status`] | calibration outcome, suspend state, LED choice |
@@ -25,6 +26,7 @@
 pub mod commands;
 pub mod control;
 pub mod device;
+pub mod flash;
 pub mod housekeeping;
 pub mod identity;
 pub mod mouse;

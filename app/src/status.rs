@@ -69,6 +69,7 @@ impl Status {
         tracker: &Tracker,
         now_ms: u32,
     ) -> Indicator {
+        let link = self.power.link_seen(link);
         let last = match self.last {
             Some((
                 Event::Rejected {

@@ -115,6 +115,14 @@ fn calibration_outcomes_reach_the_led() {
 fn suspended_blocks_are_probes_that_wake_the_host_on_motion() {
     let (mut t, mut s) = (tracker(), Status::new(20));
     assert!(!s.suspended());
+    // A bus that reads suspended before any host configured the device is not a suspend.
+    assert_eq!(s.power(0, Link::Suspended, true, false), PowerAction::None);
+    assert!(!s.suspended());
+    assert_eq!(
+        s.indicator(Link::Suspended, true, &t, 0),
+        s.indicator(Link::NotConfigured, true, &t, 0)
+    );
+    assert_eq!(s.power(0, Link::Configured, true, false), PowerAction::None);
     assert_eq!(
         s.power(0, Link::Suspended, true, false),
         PowerAction::Suspend

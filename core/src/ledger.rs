@@ -5,9 +5,10 @@
 //! block is not taken in time (DMA overrun) or the ADC overruns, the firmware restarts the
 //! sampling, and the samples triggered in between are gone. A lost sample is lost time, and
 //! lost time is a position error, so the count matters: the ledger derives it from a
-//! free-running cycle counter (the Cortex-M DWT `CYCCNT`) read at the end of every good block
-//! and at the restart. Because the trigger timer and the CPU share one clock, the sample
-//! period is an exact number of cycles, and
+//! free-running hardware counter (on the board TIM5, 32 bits at the 96 MHz timer clock:
+//! `firmware/src/clock.rs`) read at the end of every good block and at the restart. Because
+//! the trigger timer and the counter share one clock, the sample period is an exact number
+//! of counts, and
 //! `lost = round((t_restart - t_last_good_block) / cycles_per_sample)`, to within one sample
 //! (interrupt latency), for gaps shorter than the counter's wrap (`2^32` cycles: 44.7 s at
 //! 96 MHz; the watchdog resets the device long before).
@@ -86,6 +87,7 @@ pub struct SampleLedger {
     block: u32,
     last_good: Option<u32>,
     integrating: bool,
+    paused: bool,
     counters: LedgerCounters,
 }
 
@@ -110,6 +112,7 @@ impl SampleLedger {
             block,
             last_good: None,
             integrating: false,
+            paused: false,
             counters: LedgerCounters {
                 blocks: 0,
                 samples: 0,
@@ -130,18 +133,26 @@ impl SampleLedger {
     pub fn start(&mut self, now: u32) {
         self.last_good = Some(now);
         self.integrating = false;
+        self.paused = false;
     }
 
-    /// Sampling was stopped on purpose (USB suspend): no stall, nothing lost, until the next
-    /// [`Self::start`].
+    /// Sampling for tracking was stopped on purpose (USB suspend; the motion probe's slow
+    /// blocks may go on): no stall, nothing lost, no block late, until the next
+    /// [`Self::start`]. Blocks and restarts meanwhile are counted and leave it paused.
     pub fn pause(&mut self) {
         self.last_good = None;
         self.integrating = false;
+        self.paused = true;
     }
 
     /// Whether the ledger is running (started and not paused).
     pub const fn running(&self) -> bool {
         self.last_good.is_some()
+    }
+
+    /// Whether the ledger is paused ([`Self::pause`] since the last [`Self::start`]).
+    pub const fn paused(&self) -> bool {
+        self.paused
     }
 
     /// A good block was taken at cycle count `now`. Blocks come one block period apart; a
@@ -152,6 +163,11 @@ impl SampleLedger {
     pub fn block(&mut self, now: u32) -> Delivery {
         self.counters.blocks = self.counters.blocks.wrapping_add(1);
         self.counters.samples += u64::from(self.block);
+        if self.paused {
+            // A probe block: the stall and late checks are for tracking's rate, not the
+            // probe's (a probe block at the running rate's limit would restart sampling).
+            return Delivery::OnTime;
+        }
         let previous = self.last_good.replace(now);
         let was_integrating = core::mem::replace(&mut self.integrating, true);
         let (Some(last), true) = (previous, was_integrating) else {
@@ -179,6 +195,9 @@ impl SampleLedger {
     /// The stall check and the next block count from `now`.
     pub fn restart(&mut self, now: u32) -> u32 {
         self.counters.restarts = self.counters.restarts.wrapping_add(1);
+        if self.paused {
+            return 0;
+        }
         let previous = self.last_good.replace(now);
         let was_integrating = core::mem::replace(&mut self.integrating, false);
         let (Some(last), true) = (previous, was_integrating) else {
@@ -352,5 +371,35 @@ mod tests {
         l.unfilled();
         assert_eq!(l.block(9 * CPS), Delivery::Late(3));
         assert_eq!(l.counters().late_blocks, 2);
+    }
+
+    #[test]
+    fn probe_blocks_while_paused_neither_run_the_ledger_nor_stall_it() {
+        // Suspended at 3 kHz: the probe's blocks come every 60 ms (50 Hz, 3 triples), far
+        // past the running rate's 5 ms stall limit. They must not start the ledger (whose
+        // stall check would then restart sampling every few ms), nor count as late.
+        let mut l = SampleLedger::new(96_000_000, 3000, 3).expect("valid");
+        l.start(0);
+        l.block(96_000);
+        l.pause();
+        let limit = 5 * 3000 / 1000;
+        for k in 1..=20u32 {
+            let now = 96_000 + k * 5_760_000;
+            assert_eq!(l.block(now), Delivery::OnTime);
+            assert!(!l.running() && l.paused());
+            assert!(!l.stalled(now + 600_000, limit), "probe block {k}");
+        }
+        assert_eq!(
+            l.restart(200_000_000),
+            0,
+            "a restart while paused loses nothing"
+        );
+        assert!(l.paused() && !l.stalled(300_000_000, limit));
+        let c = l.counters();
+        assert_eq!((c.blocks, c.late_blocks, c.lost, c.restarts), (21, 0, 0, 1));
+        // Resumed: the running rate's checks apply again from the start.
+        l.start(400_000_000);
+        assert!(l.running() && !l.paused());
+        assert!(l.stalled(400_000_000 + 16 * 32_000, limit));
     }
 }

@@ -3,7 +3,9 @@
 //!
 //! # Design
 //! The host suspends the bus (no traffic for 3 ms); a suspended device must draw at most
-//! 2.5 mA, so the sampling for tracking stops ([`PowerAction::Suspend`]) and the board keeps
+//! 2.5 mA, so the sampling for tracking stops (only for a device the host configured: a
+//! bus that reads suspended before any host configured it is no host at all, and the
+//! device keeps sampling and shows "not configured", [`Power::link_seen`]) ([`PowerAction::Suspend`]) and the board keeps
 //! only a slow motion probe and the KEY. When the host resumes or resets the bus, sampling
 //! starts again ([`PowerAction::Resume`]; the tracker recalibrates, since the rest it knew is
 //! stale). If the host enabled remote wake-up (SET_FEATURE DEVICE_REMOTE_WAKEUP, allowed by
@@ -40,6 +42,7 @@ pub struct Power {
     moved: bool,
     key_was: bool,
     woke_at: Option<u32>,
+    configured: bool,
 }
 
 impl Power {
@@ -58,12 +61,24 @@ impl Power {
             moved: false,
             key_was: false,
             woke_at: None,
+            configured: false,
         }
     }
 
     /// Whether the device is suspended (sampling for tracking stopped).
     pub const fn suspended(&self) -> bool {
         self.suspended_at.is_some()
+    }
+
+    /// The link as the device should show it: a bus that reads suspended before the device
+    /// was ever configured (no host, or a charger: a full-speed core with VBUS sensing off
+    /// raises suspend with no cable) is shown as not configured, and the device keeps
+    /// sampling ([`Self::tick`] does not suspend it).
+    pub const fn link_seen(&self, link: Link) -> Link {
+        match link {
+            Link::Suspended if !self.configured && !self.suspended() => Link::NotConfigured,
+            other => other,
+        }
     }
 
     /// One probe sample `[x, y, z]` [ADC codes] while suspended; ignored while awake.
@@ -94,8 +109,13 @@ impl Power {
     ) -> PowerAction {
         let press = key_pressed && !self.key_was;
         self.key_was = key_pressed;
+        match link {
+            Link::Configured => self.configured = true,
+            Link::NotConfigured => self.configured = false,
+            Link::Suspended => {}
+        }
         match (self.suspended_at, link) {
-            (None, Link::Suspended) => {
+            (None, Link::Suspended) if self.configured => {
                 self.suspended_at = Some(now_ms);
                 self.reference = None;
                 self.moved = false;
@@ -200,5 +220,39 @@ mod tests {
             p.tick(1012, Link::Configured, true, false),
             PowerAction::Resume
         );
+    }
+
+    #[test]
+    fn a_device_never_configured_is_not_suspended_and_shows_not_configured() {
+        // On the bench, powered by the probe with no host: the core reads suspended from the
+        // start. Sampling goes on, the LED says "USB not configured".
+        let mut p = Power::new(12);
+        for t in 0..10 {
+            assert_eq!(p.tick(t, Link::Suspended, true, false), PowerAction::None);
+            assert!(!p.suspended());
+            assert_eq!(p.link_seen(Link::Suspended), Link::NotConfigured);
+        }
+        // Addressed but not configured, then suspended: still no host that wants a mouse.
+        assert_eq!(
+            p.tick(10, Link::NotConfigured, true, false),
+            PowerAction::None
+        );
+        assert_eq!(p.tick(11, Link::Suspended, true, false), PowerAction::None);
+        // Configured, then suspended: a real suspend, shown as such.
+        assert_eq!(p.tick(12, Link::Configured, true, false), PowerAction::None);
+        assert_eq!(p.link_seen(Link::Suspended), Link::Suspended);
+        assert_eq!(
+            p.tick(13, Link::Suspended, true, false),
+            PowerAction::Suspend
+        );
+        assert_eq!(p.link_seen(Link::Suspended), Link::Suspended);
+        // A bus reset (re-enumeration) forgets the configuration.
+        assert_eq!(
+            p.tick(14, Link::NotConfigured, true, false),
+            PowerAction::Resume
+        );
+        assert_eq!(p.tick(15, Link::Suspended, true, false), PowerAction::None);
+        assert_eq!(p.link_seen(Link::Suspended), Link::NotConfigured);
+        assert_eq!(p.link_seen(Link::Configured), Link::Configured);
     }
 }

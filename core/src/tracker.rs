@@ -298,11 +298,8 @@ impl Tracker {
 
     /// Carries out a drift-control decision on the axes.
     fn apply(&mut self, action: Action) {
-        // Every decision but the shadow's own ends a shadow.
-        let shadow = match action {
-            Action::Shadow { .. } | Action::Adopt { .. } => self.shadow,
-            _ => self.shadow.take(),
-        };
+        // Every decision ends a shadow (a new one replaces it, an adoption takes it).
+        let shadow = self.shadow.take();
         match action {
             Action::None => {}
             Action::Shadow { bias, blocks } => {

@@ -21,11 +21,15 @@ impl Noise {
 }
 
 fn tracker(drift: Option<Drift>) -> Tracker {
-    let mut t = Tracker::new(&Config {
+    calibrated(&Config {
         drift,
         ..Config::default()
     })
-    .expect("valid");
+}
+
+/// A tracker of `config`, calibrated on 1 s of the noisy rest at mid-scale.
+fn calibrated(config: &Config) -> Tracker {
+    let mut t = Tracker::new(config).expect("valid");
     let mut n = Noise(Trace::new(1));
     let cal: Vec<[u16; 3]> = (0..3000)
         .map(|_| [n.code(2048), n.code(2048), n.code(2048)])
@@ -636,7 +640,7 @@ fn a_stroke_during_a_tilts_hold_never_delivers_the_tilts_runaway() {
     // the stroke itself and what the tilt alone runs before its hold. (The runs that decide
     // between the tilt and the stroke once went uncounted while the stroke's shadow ran, and
     // the held runaway was delivered: 55 000 counts.)
-    let run_scene = |tilted: bool, start: f64, amp: f64| {
+    let run_scheme = |scheme, tilted: bool, start: f64, amp: f64| {
         let scene = move |i: usize, n: &mut Noise| {
             let t = (i as f64 - start) / 3000.0;
             let stroke = if (0.0..0.5).contains(&t) {
@@ -648,11 +652,17 @@ fn a_stroke_during_a_tilts_hold_never_delivers_the_tilts_runaway() {
             let x = 2048.0 + if tilted { 14.0 * f } else { 0.0 } + stroke;
             [n.code(x.round() as u16), n.code(2048), n.code(2048)]
         };
-        let mut t = tracker(Some(Drift::default()));
+        let mut t = calibrated(&Config {
+            scheme,
+            ..Config::default()
+        });
         let mut n = Noise(Trace::new(5));
         let total = run(&mut t, 20_000, |i| scene(i, &mut n));
         assert!(t.is_still(), "{:?}", t.drift_state());
         (total[0], t.counters())
+    };
+    let run_scene = |tilted: bool, start: f64, amp: f64| {
+        run_scheme(imu_core::Scheme::Euler, tilted, start, amp)
     };
     let alone = run_scene(true, 1e9, 0.0).0;
     assert!(alone > 0, "the tilt runs before its hold: {alone}");
@@ -670,15 +680,22 @@ fn a_stroke_during_a_tilts_hold_never_delivers_the_tilts_runaway() {
     // to rest first and replaces the held motion, so the cursor moves by the stroke plus the
     // tilt's run before its hold. The level is a mean of 0.3 s (900 samples of 1 LSB^2:
     // sd 0.033 LSB, 0.2 % of a 20 LSB stroke's peak); bound 1 % and 2 counts of rounding.
-    for amp in [20.0, 40.0] {
-        let stroke = run_scene(false, 6000.0, amp).0;
-        let (both, counters) = run_scene(true, 6000.0, amp);
+    // The same with the trapezoid, whose shadow is primed with the sample before it.
+    let schemes = [imu_core::Scheme::Euler, imu_core::Scheme::Trapezoid];
+    for (scheme, amp) in schemes.into_iter().flat_map(|s| [(s, 20.0), (s, 40.0)]) {
+        let stroke = run_scheme(scheme, false, 6000.0, amp).0;
+        let alone = run_scheme(scheme, true, 1e9, 0.0).0;
+        let (both, counters) = run_scheme(scheme, true, 6000.0, amp);
         let want = stroke + alone;
         // The held motion dropped once, the tilt's level the new zero once.
-        assert_eq!((counters.discarded, counters.rebiases), (1, 1), "{amp} LSB");
+        assert_eq!(
+            (counters.discarded, counters.rebiases),
+            (1, 1),
+            "{scheme:?}, {amp} LSB"
+        );
         assert!(
             (both - want).abs() <= stroke.abs() / 100 + 2,
-            "{amp} LSB: {both} counts, want {want}"
+            "{scheme:?}, {amp} LSB: {both} counts, want {want}"
         );
     }
 }

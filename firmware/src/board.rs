@@ -83,10 +83,11 @@ pub const ADC_SAMPLE_TIME: SampleTime = SampleTime::Cycles_112;
 /// Sampling is restarted when no block has arrived for this many block periods.
 pub const STALL_BLOCKS: u32 = 5;
 
-/// Independent watchdog timeout [ms]; fed by the 1 ms housekeeping loop. Above the longest
-/// time the CPU cannot run, a save that erases a 16 KiB sector and programs a record (well
-/// under a second by the datasheet), with margin.
-pub const WATCHDOG_MS: u32 = 2000;
+/// Independent watchdog timeout [ms], fed by the 1 ms housekeeping loop: see
+/// `imu_app::device::WATCHDOG_MS` (the worst saves, each erase and every byte sequential-
+/// storage reads through its bitwise CRC, budgeted against the fastest LSI in
+/// `app/tests/store.rs`).
+pub const WATCHDOG_MS: u32 = imu_app::device::WATCHDOG_MS;
 
 /// Remote wake-up signalling time [ms] (USB 2.0: 1 to 15 ms).
 pub const REMOTE_WAKEUP_MS: u32 = 10;

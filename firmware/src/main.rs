@@ -160,6 +160,11 @@ mod app {
             defmt::panic!("USB identity strings do not fit the descriptor")
         };
 
+        // The debug port stays reachable while idle sleeps in `wfi` (DBG_SLEEP): attaching
+        // to a sleeping F411 otherwise fails, and the Black Pill's SWD header has no NRST
+        // for connect-under-reset. probe-rs clears the bit when it disconnects, so it is set
+        // again at every boot (README, "Wiring and flashing": what to do if attach fails).
+        dp.DBGMCU.cr().modify(|_, w| w.dbg_sleep().set_bit());
         let mut watchdog = IndependentWatchdog::new(dp.IWDG);
         watchdog.stop_on_debug(&dp.DBGMCU, true);
         watchdog.start(board::WATCHDOG_MS.millis());

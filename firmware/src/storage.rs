@@ -12,12 +12,20 @@
 //! `freeze`; RM0383 3.5: cached lines of an erased sector would still read the old bytes),
 //! as ST's own driver does after every erase.
 //!
+//! Erase and program run `imu_app::flash`'s sequences (tested on the host) over the
+//! registers, not the HAL's `UnlockedFlash`: the HAL never clears the flash interface's
+//! sticky error flags, so after one stray error every later save would fail until reset, and
+//! its erase writes `STRT` in the same write as `SER`/`SNB` without waiting for `BSY`
+//! (RM0383 3.5.3 sets `STRT` after them). The interface is unlocked for each operation and
+//! locked again after it.
+//!
 //! Every operation blocks the CPU until the flash is done (a single-bank part stalls every
 //! fetch meanwhile); the async functions never return `Pending`.
 
 use embedded_storage_async::nor_flash::{
     ErrorType, NorFlash, NorFlashError, NorFlashErrorKind, ReadNorFlash,
 };
+use imu_app::flash::{self, FlashInterface};
 use stm32f4xx_hal::{flash::FlashExt, pac::FLASH};
 
 use crate::board::{STORE_END, STORE_FIRST_SECTOR, STORE_PAGE, STORE_START};
@@ -70,6 +78,21 @@ impl StoreFlash {
         Ok((STORE_START + offset) as usize)
     }
 
+    /// Unlocks the flash interface's control register (RM0383 3.5.1: the two keys in order).
+    fn unlock(&mut self) {
+        const KEY1: u32 = 0x4567_0123;
+        const KEY2: u32 = 0xCDEF_89AB;
+        if self.flash.cr().read().lock().bit_is_set() {
+            self.flash.keyr().write(|w| w.key().set(KEY1));
+            self.flash.keyr().write(|w| w.key().set(KEY2));
+        }
+    }
+
+    /// Locks it again.
+    fn lock(&mut self) {
+        self.flash.cr().modify(|_, w| w.lock().set_bit());
+    }
+
     /// Resets the instruction and data caches (disabled while reset, then enabled again).
     fn reset_caches(&mut self) {
         let acr = self.flash.acr();
@@ -77,6 +100,82 @@ impl StoreFlash {
         acr.modify(|_, w| w.dcrst().set_bit().icrst().set_bit());
         acr.modify(|_, w| w.dcrst().clear_bit().icrst().clear_bit());
         acr.modify(|_, w| w.dcen().set_bit().icen().set_bit());
+    }
+}
+
+impl FlashInterface for StoreFlash {
+    fn busy(&self) -> bool {
+        self.flash.sr().read().bsy().bit_is_set()
+    }
+
+    fn errors(&self) -> u8 {
+        // Packed as `FlashInterface::errors` documents.
+        let sr = self.flash.sr().read();
+        [
+            sr.operr().bit(),
+            sr.wrperr().bit(),
+            sr.pgaerr().bit(),
+            sr.pgperr().bit(),
+            sr.pgserr().bit(),
+            sr.rderr().bit(),
+        ]
+        .iter()
+        .enumerate()
+        .map(|(i, &set)| u8::from(set) << i)
+        .sum()
+    }
+
+    fn clear_errors(&mut self) {
+        self.flash.sr().write(|w| {
+            w.eop().clear();
+            w.operr().clear();
+            w.wrperr().clear();
+            w.pgaerr().clear();
+            w.pgperr().clear();
+            w.pgserr().clear();
+            w.rderr().clear()
+        });
+    }
+
+    fn select_erase(&mut self, snb: u8) {
+        self.flash.cr().modify(|_, w| {
+            w.pg().clear_bit();
+            w.ser().set_bit();
+            #[allow(unsafe_code)]
+            // SAFETY: SNB takes any 4-bit value; the store passes its own sectors, 1 and 2.
+            unsafe {
+                w.snb().bits(snb & 0xF);
+            }
+            w.psize().psize8()
+        });
+    }
+
+    fn start(&mut self) {
+        self.flash.cr().modify(|_, w| w.strt().set_bit());
+    }
+
+    fn select_program(&mut self) {
+        self.flash.cr().modify(|_, w| {
+            w.ser().clear_bit();
+            w.pg().set_bit();
+            w.psize().psize8()
+        });
+    }
+
+    fn write(&mut self, addr: usize, byte: u8) {
+        // A byte-wide bus write to the flash array programs that byte (PG set, x8).
+        #[allow(unsafe_code)]
+        // SAFETY: `addr` is inside the store's sectors (`at` checked it), which no code or
+        // data is linked into (memory.x), and the interface is in programming mode.
+        unsafe {
+            core::ptr::write_volatile(addr as *mut u8, byte);
+        }
+    }
+
+    fn deselect(&mut self) {
+        self.flash
+            .cr()
+            .modify(|_, w| w.ser().clear_bit().pg().clear_bit());
     }
 }
 
@@ -112,7 +211,9 @@ impl NorFlash for StoreFlash {
         Self::at(from, len, STORE_PAGE)?;
         for page in (from..to).step_by(STORE_PAGE as usize) {
             let sector = STORE_FIRST_SECTOR + (page / STORE_PAGE) as u8;
-            let result = self.flash.unlocked().erase(sector);
+            self.unlock();
+            let result = flash::erase(self, sector);
+            self.lock();
             self.reset_caches();
             result.map_err(|_| FlashError::Hardware)?;
         }
@@ -121,9 +222,9 @@ impl NorFlash for StoreFlash {
 
     async fn write(&mut self, offset: u32, bytes: &[u8]) -> Result<(), FlashError> {
         let at = Self::at(offset, bytes.len(), Self::WRITE_SIZE as u32)?;
-        self.flash
-            .unlocked()
-            .program(at, bytes.iter())
-            .map_err(|_| FlashError::Hardware)
+        self.unlock();
+        let result = flash::program(self, at, bytes);
+        self.lock();
+        result.map_err(|_| FlashError::Hardware)
     }
 }
