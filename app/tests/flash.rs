@@ -137,7 +137,7 @@ fn a_failed_operation_reports_its_flags_and_leaves_none_behind() {
 fn programming_stops_at_the_first_byte_that_fails() {
     // Programming selected, then something deselects it (a sequence error): the bytes
     // after the failing one are not written, and the fault names the sequence error.
-    struct Dropping(Model, usize);
+    struct Dropping(Model, usize, u32);
     impl FlashInterface for Dropping {
         fn busy(&self) -> bool {
             self.0.busy()
@@ -158,6 +158,7 @@ fn programming_stops_at_the_first_byte_that_fails() {
             self.0.select_program();
         }
         fn write(&mut self, addr: usize, byte: u8) {
+            self.2 += 1;
             if self.0.programmed.len() == self.1 {
                 self.0.pg = false;
             }
@@ -167,11 +168,12 @@ fn programming_stops_at_the_first_byte_that_fails() {
             self.0.deselect();
         }
     }
-    let mut d = Dropping(Model::default(), 3);
+    let mut d = Dropping(Model::default(), 3, 0);
     assert_eq!(
         program(&mut d, 0x0800_4000, &[1, 2, 3, 4, 5, 6]),
         Err(FlashFault { errors: PGSERR })
     );
     assert_eq!(d.0.programmed.len(), 3);
+    assert_eq!(d.2, 4, "no byte is written after the one that failed");
     assert_eq!(d.0.errors, 0);
 }
