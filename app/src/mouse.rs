@@ -22,7 +22,10 @@ use imu_core::protocol::{Frame, StreamFrame, CONFIG_REPORT_DESCRIPTOR, FRAME_LEN
 use imu_core::Link;
 use usb_device::{
     bus::{UsbBus, UsbBusAllocator},
+    class::{ControlIn, ControlOut, UsbClass},
+    descriptor::DescriptorWriter,
     device::{StringDescriptors, UsbDevice, UsbDeviceBuilder, UsbDeviceState, UsbVidPid},
+    endpoint::EndpointAddress,
     prelude::BuilderError,
     UsbError,
 };
@@ -89,12 +92,19 @@ impl Reports {
     /// knows afresh; while not configured, motion is discarded rather than delivered late as
     /// a jump. A push refused with `WouldBlock` loses nothing (the motion stays owed); any
     /// other refusal is counted in [`Self::drops`].
+    ///
+    /// `delivered`: the host's IN transfer of the report in flight completed in this poll
+    /// (it is then counted as sent, before a link change could count it lost).
     pub fn update(
         &mut self,
         state: UsbDeviceState,
         counts: [i32; 3],
+        delivered: bool,
         push: impl FnOnce(&[u8]) -> Result<usize, UsbError>,
     ) {
+        if delivered {
+            self.reporter.delivered();
+        }
         let link = match state {
             UsbDeviceState::Configured => Link::Configured,
             UsbDeviceState::Suspend => Link::Suspended,
@@ -114,7 +124,7 @@ impl Reports {
         }
         if let Some(report) = self.reporter.pending() {
             match push(&report.to_bytes()) {
-                Ok(_) => self.reporter.sent(&report),
+                Ok(_) => self.reporter.accepted(&report),
                 Err(UsbError::WouldBlock) => {}
                 Err(_) => self.drops = self.drops.wrapping_add(1),
             }
@@ -147,6 +157,42 @@ impl Reports {
     }
 }
 
+/// The mouse's IN endpoint: EP1, the first the bus allocates ([`hid_class`] is built
+/// before [`config_class`]; `app/tests/usb_class.rs` reads the reports there).
+pub const MOUSE_EP_IN: u8 = 0x81;
+
+/// The mouse's HID class, watching its IN endpoint: a report the stack took is delivered
+/// only when the host's IN transfer completes ([`Reports::update`]). usbd-hid's class
+/// implements only the descriptors and the class requests; those are passed through, and
+/// every other callback keeps the trait's default, as it does in the class itself.
+struct Watched<'a, B: UsbBus> {
+    class: HIDClass<'a, B>,
+    delivered: bool,
+}
+
+impl<B: UsbBus> UsbClass<B> for Watched<'_, B> {
+    fn get_configuration_descriptors(
+        &self,
+        writer: &mut DescriptorWriter,
+    ) -> usb_device::Result<()> {
+        self.class.get_configuration_descriptors(writer)
+    }
+
+    fn control_in(&mut self, xfer: ControlIn<B>) {
+        self.class.control_in(xfer);
+    }
+
+    fn control_out(&mut self, xfer: ControlOut<B>) {
+        self.class.control_out(xfer);
+    }
+
+    fn endpoint_in_complete(&mut self, addr: EndpointAddress) {
+        if u8::from(addr) == MOUSE_EP_IN {
+            self.delivered = true;
+        }
+    }
+}
+
 /// Responses waiting for the configuration interface's IN endpoint.
 pub const OUTBOX: usize = 2;
 
@@ -154,7 +200,7 @@ pub const OUTBOX: usize = 2;
 /// configuration interface with its inbox and outbox.
 pub struct Mouse<'a, B: UsbBus> {
     dev: UsbDevice<'a, B>,
-    hid: HIDClass<'a, B>,
+    hid: Watched<'a, B>,
     port: HIDClass<'a, B>,
     reports: Reports,
     inbox: Option<(Frame, usize)>,
@@ -167,7 +213,10 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
     /// # Errors
     /// The builder's error if the strings do not fit (they are constants in [`identity`]).
     pub fn new(bus: &'a UsbBusAllocator<B>) -> Result<Self, BuilderError> {
-        let hid = hid_class(bus);
+        let hid = Watched {
+            class: hid_class(bus),
+            delivered: false,
+        };
         let port = config_class(bus);
         let dev = usb_device(bus)?;
         Ok(Self {
@@ -186,9 +235,12 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
     pub fn service(&mut self, counts: [i32; 3]) {
         self.dev.poll(&mut [&mut self.hid, &mut self.port]);
         let link = self.reports.link();
-        let hid = &mut self.hid;
+        let delivered = core::mem::take(&mut self.hid.delivered);
+        let hid = &mut self.hid.class;
         self.reports
-            .update(self.dev.state(), counts, |bytes| hid.push_raw_input(bytes));
+            .update(self.dev.state(), counts, delivered, |bytes| {
+                hid.push_raw_input(bytes)
+            });
         if self.reports.link() != link {
             self.inbox = None;
             self.outbox.clear();

@@ -9,9 +9,11 @@
 //!
 //! [`Reporter`] holds the counts that the tracker has produced and the host has not yet
 //! received. [`Reporter::pending`] proposes the next report; only after the USB stack
-//! accepted it does [`Reporter::sent`] subtract what it carried. If the push fails (the host
-//! has not read the last report yet), nothing is lost: the same motion is proposed again,
-//! together with whatever arrived since. A report can carry at most 127 counts per axis; a
+//! accepted it does [`Reporter::accepted`] subtract what it carried, and only when the host's
+//! IN transfer completes does [`Reporter::delivered`] count it as sent (a bus reset in
+//! between loses the endpoint's buffer: the report is counted discarded). If the push fails
+//! (the host has not read the last report yet), nothing is lost: the same motion is proposed
+//! again, together with whatever arrived since. A report can carry at most 127 counts per axis; a
 //! larger motion is scaled down with both axes by the same factor, so the report points the
 //! way the hand moved, and the rest is carried into later reports. The sum of all reports
 //! equals the sum of all motion, exactly.
@@ -108,6 +110,7 @@ pub struct Reporter {
     reports: u32,
     sent: (i64, i64),
     discarded: (i64, i64),
+    in_flight: Option<(i8, i8)>,
 }
 
 impl Reporter {
@@ -136,8 +139,20 @@ impl Reporter {
     /// [`Self::discard_motion`]) and the host is assumed to know no buttons, so held buttons
     /// are reported again.
     pub fn host_reset(&mut self) {
+        // A report still in the endpoint's buffer is lost with it.
+        if let Some((x, y)) = self.in_flight.take() {
+            self.discarded.0 = self.discarded.0.wrapping_add(i64::from(x));
+            self.discarded.1 = self.discarded.1.wrapping_add(i64::from(y));
+        }
         self.discard_motion();
         self.sent_buttons = 0;
+    }
+
+    /// The motion of a report the USB stack took that the host has not yet taken [counts]
+    /// (right, down); `(0, 0)` when none is in flight. See [`Self::accepted`].
+    pub fn in_flight(&self) -> (i64, i64) {
+        self.in_flight
+            .map_or((0, 0), |(x, y)| (i64::from(x), i64::from(y)))
     }
 
     /// Motion not yet delivered [counts] (right, down).
@@ -145,13 +160,14 @@ impl Reporter {
         (self.dx, self.dy)
     }
 
-    /// Reports accepted by the USB stack so far.
+    /// Reports delivered to the host so far.
     pub const fn reports(&self) -> u32 {
         self.reports
     }
 
-    /// Motion accepted by the USB stack so far [counts] (right, down), wrapping. With
-    /// [`Self::discarded`] and [`Self::undelivered`] it accounts for every count added.
+    /// Motion delivered to the host so far [counts] (right, down), wrapping. With
+    /// [`Self::discarded`], [`Self::in_flight`] and [`Self::undelivered`] it accounts for
+    /// every count added.
     pub const fn sent_total(&self) -> (i64, i64) {
         self.sent
     }
@@ -175,15 +191,35 @@ impl Reporter {
         })
     }
 
-    /// Records that `report` (from [`Self::pending`]) was accepted by the USB stack: its
-    /// motion is no longer owed.
+    /// Records that `report` (from [`Self::pending`]) was delivered to the host: its motion
+    /// is no longer owed, and it counts as sent ([`Self::accepted`] then
+    /// [`Self::delivered`]; where there is no endpoint to wait for: simulations, tools).
     pub fn sent(&mut self, report: &MouseReport) {
+        self.accepted(report);
+        self.delivered();
+    }
+
+    /// Records that the USB stack took `report` (from [`Self::pending`]) into the endpoint's
+    /// buffer: its motion is no longer owed, but it is in flight until the host's IN transfer
+    /// completes ([`Self::delivered`]); a bus reset first loses it ([`Self::host_reset`]
+    /// counts it discarded). A stack that takes a report has a free buffer, so a report
+    /// still in flight then was delivered.
+    pub fn accepted(&mut self, report: &MouseReport) {
+        self.delivered();
         self.dx -= i64::from(report.x);
         self.dy -= i64::from(report.y);
         self.sent_buttons = report.buttons;
-        self.reports = self.reports.wrapping_add(1);
-        self.sent.0 = self.sent.0.wrapping_add(i64::from(report.x));
-        self.sent.1 = self.sent.1.wrapping_add(i64::from(report.y));
+        self.in_flight = Some((report.x, report.y));
+    }
+
+    /// The host took the report in flight (its IN transfer completed): it counts as sent.
+    /// Nothing happens with none in flight.
+    pub fn delivered(&mut self) {
+        if let Some((x, y)) = self.in_flight.take() {
+            self.reports = self.reports.wrapping_add(1);
+            self.sent.0 = self.sent.0.wrapping_add(i64::from(x));
+            self.sent.1 = self.sent.1.wrapping_add(i64::from(y));
+        }
     }
 }
 

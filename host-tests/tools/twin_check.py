@@ -201,16 +201,7 @@ def main():
     print(f"twin_check: host decoded {total['n']} reports summing to {got}; "
           f"the device sent {s['reports']} reports summing to {s['sent']}")
     if got != s["sent"] or total["n"] != s["reports"]:
-        # Known defect (open, cause not yet proven): the device counts a report as sent when the USB stack takes it
-        # into the endpoint's buffer, not when the host takes it; a bus reset (the disconnect
-        # above) discards a report still in the buffer, which the device has counted. At most
-        # that one report may be missing; anything else fails.
-        dx, dy = s["sent"][0] - got[0], s["sent"][1] - got[1]
-        one = total["n"] == s["reports"] - 1 and abs(dx) <= 127 and abs(dy) <= 127
-        if not one:
-            fail("the host's sum differs from the device's")
-        print(f"twin_check: KNOWN DEFECT: one report ({dx}, {dy}) counted as sent by the device "
-              "never reached the host (most likely it was still in the endpoint buffer at the bus reset)")
+        fail("the host's sum differs from the device's")
     if not s["accounted"]:
         fail(f"the device's counts do not add up: {s}")
     if s["sent"] == [0, 0]:

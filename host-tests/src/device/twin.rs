@@ -101,13 +101,15 @@ pub struct Summary {
     pub scene_s: f64,
     /// Counts the tracker produced, `[x, y]` on screen (right, down).
     pub produced: [i64; 2],
-    /// Counts in reports the USB stack accepted.
+    /// Counts in reports the host took (their IN transfers completed).
     pub sent: [i64; 2],
-    /// Counts dropped while the host was not listening.
+    /// Counts dropped while the host was not listening, or lost in the endpoint at a reset.
     pub discarded: [i64; 2],
     /// Counts still owed at the end.
     pub undelivered: [i64; 2],
-    /// Reports accepted by the USB stack.
+    /// Counts in the report the USB stack took that the host had not taken at the end.
+    pub in_flight: [i64; 2],
+    /// Reports the host took.
     pub reports: u32,
     /// Most reports in any 1 s of the run [1/s].
     pub peak_report_rate_hz: u32,
@@ -359,6 +361,7 @@ fn summary(
 ) -> Summary {
     let r = mouse.reports().reporter();
     let (sent, discarded, owed) = (r.sent_total(), r.discarded(), r.undelivered());
+    let flight = r.in_flight();
     let peak = per_ms
         .windows(1000.min(per_ms.len()).max(1))
         .map(|w| w.iter().sum::<u32>())
@@ -371,6 +374,7 @@ fn summary(
         sent: [sent.0, sent.1],
         discarded: [discarded.0, discarded.1],
         undelivered: [owed.0, owed.1],
+        in_flight: [flight.0, flight.1],
         reports: mouse.reports().reporter().reports(),
         peak_report_rate_hz: peak,
         imports: t.imports,
@@ -378,8 +382,8 @@ fn summary(
         stalls: t.stalls,
         in_packets: t.in_packets,
         late_ticks,
-        accounted: sent.0 + discarded.0 + owed.0 == produced[0]
-            && sent.1 + discarded.1 + owed.1 == produced[1],
+        accounted: sent.0 + discarded.0 + owed.0 + flight.0 == produced[0]
+            && sent.1 + discarded.1 + owed.1 + flight.1 == produced[1],
         profile_source: format!("{:?}", end.source),
         final_fs_hz: end.final_fs_hz,
         stream_frames: end.stream_frames,
