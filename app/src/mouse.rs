@@ -161,16 +161,39 @@ impl Reports {
 /// before [`config_class`]; `app/tests/usb_class.rs` reads the reports there).
 pub const MOUSE_EP_IN: u8 = 0x81;
 
-/// The mouse's HID class, watching its IN endpoint: a report the stack took is delivered
-/// only when the host's IN transfer completes ([`Reports::update`]). usbd-hid's class
-/// implements only the descriptors and the class requests; those are passed through, and
-/// every other callback keeps the trait's default, as it does in the class itself.
-struct Watched<'a, B: UsbBus> {
+/// The mouse's HID class ([`hid_class`]), watching its IN endpoint: a report the stack took
+/// is delivered only when the host's IN transfer completes ([`Reports::update`]). usbd-hid's
+/// class implements only the descriptors and the class requests; those are passed through,
+/// and every other callback keeps the trait's default, as it does in the class itself.
+pub struct MouseClass<'a, B: UsbBus> {
     class: HIDClass<'a, B>,
     delivered: bool,
 }
 
-impl<B: UsbBus> UsbClass<B> for Watched<'_, B> {
+/// The mouse's class as the device builds it (see [`MouseClass`]).
+pub fn mouse_class<B: UsbBus>(bus: &UsbBusAllocator<B>) -> MouseClass<'_, B> {
+    MouseClass {
+        class: hid_class(bus),
+        delivered: false,
+    }
+}
+
+impl<B: UsbBus> MouseClass<'_, B> {
+    /// Hands a report's bytes to the endpoint (usbd-hid's `push_raw_input`).
+    ///
+    /// # Errors
+    /// `WouldBlock` while the last report is still in the endpoint; the stack's other errors.
+    pub fn push_raw_input(&self, data: &[u8]) -> usb_device::Result<usize> {
+        self.class.push_raw_input(data)
+    }
+
+    /// Whether the host took a report from the endpoint since the last call.
+    pub fn take_delivered(&mut self) -> bool {
+        core::mem::take(&mut self.delivered)
+    }
+}
+
+impl<B: UsbBus> UsbClass<B> for MouseClass<'_, B> {
     fn get_configuration_descriptors(
         &self,
         writer: &mut DescriptorWriter,
@@ -200,7 +223,7 @@ pub const OUTBOX: usize = 2;
 /// configuration interface with its inbox and outbox.
 pub struct Mouse<'a, B: UsbBus> {
     dev: UsbDevice<'a, B>,
-    hid: Watched<'a, B>,
+    hid: MouseClass<'a, B>,
     port: HIDClass<'a, B>,
     reports: Reports,
     inbox: Option<(Frame, usize)>,
@@ -213,10 +236,7 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
     /// # Errors
     /// The builder's error if the strings do not fit (they are constants in [`identity`]).
     pub fn new(bus: &'a UsbBusAllocator<B>) -> Result<Self, BuilderError> {
-        let hid = Watched {
-            class: hid_class(bus),
-            delivered: false,
-        };
+        let hid = mouse_class(bus);
         let port = config_class(bus);
         let dev = usb_device(bus)?;
         Ok(Self {
@@ -235,8 +255,8 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
     pub fn service(&mut self, counts: [i32; 3]) {
         self.dev.poll(&mut [&mut self.hid, &mut self.port]);
         let link = self.reports.link();
-        let delivered = core::mem::take(&mut self.hid.delivered);
-        let hid = &mut self.hid.class;
+        let delivered = self.hid.take_delivered();
+        let hid = &self.hid;
         self.reports
             .update(self.dev.state(), counts, delivered, |bytes| {
                 hid.push_raw_input(bytes)

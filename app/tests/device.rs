@@ -75,3 +75,17 @@ fn the_firmware_version_is_the_crates() {
         env!("CARGO_PKG_VERSION")
     );
 }
+
+#[test]
+fn the_watchdog_is_shortest_at_the_fastest_lsi() {
+    // The IWDG's count is set for a 32 kHz LSI; at 47 kHz, the F411's fastest, it runs out
+    // after 32/47 of the timeout: 5 s becomes 3.404 s.
+    use imu_app::device::{WATCHDOG_MIN_MS, WATCHDOG_MS};
+    let fastest = f64::from(WATCHDOG_MS) * 32e3 / 47e3;
+    assert_eq!(WATCHDOG_MS, 5000);
+    assert!(
+        (f64::from(WATCHDOG_MIN_MS) - fastest).abs() < 1.0,
+        "{WATCHDOG_MIN_MS} ms"
+    );
+    assert!(f64::from(WATCHDOG_MIN_MS) <= fastest);
+}

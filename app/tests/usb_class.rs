@@ -9,18 +9,17 @@ use imu_core::hid::{MouseReport, MOUSE_REPORT_DESCRIPTOR, REPORT_LEN};
 use usb_device::bus::UsbBusAllocator;
 use usb_device::device::UsbDevice;
 use usbd_class_tester::prelude::*;
-use usbd_hid::hid_class::HIDClass;
 
 struct Ctx;
 
 impl UsbDeviceCtx for Ctx {
-    type C<'c> = HIDClass<'c, EmulatedUsbBus>;
+    type C<'c> = mouse::MouseClass<'c, EmulatedUsbBus>;
 
     fn create_class<'a>(
         &mut self,
         alloc: &'a UsbBusAllocator<EmulatedUsbBus>,
-    ) -> AnyResult<HIDClass<'a, EmulatedUsbBus>> {
-        Ok(mouse::hid_class(alloc))
+    ) -> AnyResult<mouse::MouseClass<'a, EmulatedUsbBus>> {
+        Ok(mouse::mouse_class(alloc))
     }
 
     fn build_usb_device<'a>(
@@ -195,8 +194,14 @@ fn pushed_reports_arrive_on_ep1_as_the_core_packs_them() {
             wheel: 0,
         };
         assert_eq!(cls.push_raw_input(&r.to_bytes()), Ok(REPORT_LEN));
+        assert!(
+            !cls.take_delivered(),
+            "taken by the stack, not yet by the host"
+        );
         let got = dev.ep_read(&mut cls, 1, 64).expect("report");
         assert_eq!(got, r.to_bytes());
+        assert!(cls.take_delivered(), "the host's IN transfer completed");
+        assert!(!cls.take_delivered(), "once");
     })
     .expect("enumerates");
 }

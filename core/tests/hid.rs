@@ -157,3 +157,41 @@ fn every_count_is_sent_discarded_or_owed() {
         "both paths taken: sent {sx}, discarded {dx}"
     );
 }
+
+#[test]
+fn a_report_is_sent_when_the_host_takes_it_and_lost_if_the_bus_resets_first() {
+    let mut r = Reporter::default();
+    r.add_motion(30, -4);
+    let rep = r.pending().expect("motion");
+    r.accepted(&rep);
+    // In the endpoint: no longer owed, not yet sent.
+    assert_eq!(r.undelivered(), (0, 0));
+    assert_eq!(r.in_flight(), (30, -4));
+    assert_eq!((r.sent_total(), r.reports()), ((0, 0), 0));
+    r.delivered();
+    assert_eq!(
+        (r.sent_total(), r.reports(), r.in_flight()),
+        ((30, -4), 1, (0, 0))
+    );
+    r.delivered();
+    assert_eq!(
+        r.reports(),
+        1,
+        "a completion with nothing in flight counts nothing"
+    );
+    // The next one is lost with the endpoint's buffer at a bus reset: discarded.
+    r.add_motion(-7, 9);
+    let rep = r.pending().expect("motion");
+    r.accepted(&rep);
+    r.host_reset();
+    assert_eq!((r.in_flight(), r.discarded()), ((0, 0), (-7, 9)));
+    assert_eq!(r.sent_total(), (30, -4));
+    // A report taken by the stack while one is in flight: the first left the buffer.
+    r.add_motion(5, 0);
+    let a = r.pending().expect("motion");
+    r.accepted(&a);
+    r.add_motion(0, 6);
+    let b = r.pending().expect("motion");
+    r.accepted(&b);
+    assert_eq!((r.sent_total(), r.in_flight()), ((35, -4), (0, 6)));
+}
