@@ -20,6 +20,7 @@
 //! | [`sampling`] | a DMA block into the tracker (or the suspend probe) |
 //! | [`housekeeping`] | KEY, power, LED, log schedule every 1 ms |
 //! | [`status`] | calibration outcome, suspend state, LED choice |
+//! | [`uptime`] | milliseconds since boot from a hardware counter |
 #![no_std]
 #![forbid(unsafe_code)]
 
@@ -34,6 +35,7 @@ pub mod sampling;
 pub mod status;
 pub mod store;
 pub mod stream;
+pub mod uptime;
 
 pub use housekeeping::{Housekeeping, Tick, Timing};
 pub use mouse::Mouse;

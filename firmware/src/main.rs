@@ -12,8 +12,10 @@
 //!   the USB task.
 //! - `usb` (2, OTG_FS): polls the USB stack, pushes the next mouse report, serves the
 //!   configuration interface (a new rate retimes the sampling here) and the raw stream.
-//! - `housekeeping` (1, async, every 1 ms on a running deadline): stall check, KEY, power,
-//!   LED, logs, remote wake-up, watchdog.
+//! - `housekeeping` (1, async, every 1 ms on a running deadline, woken by SysTick): stall
+//!   check, KEY, power, LED, logs, remote wake-up, watchdog. Its milliseconds, and the DMA
+//!   task's, come from TIM5 (`imu_app::uptime`), which counts on while a flash erase stalls
+//!   the CPU; deadlines a save covered are skipped, not run in a burst.
 //! - `save` (1, async, spawned by a `save` or `defaults` request): the profile to flash; the
 //!   CPU stalls while the flash programs or erases (the watchdog allows for it).
 //! - `idle`: sleeps in `wfi`.
@@ -185,7 +187,7 @@ mod app {
             gpioc.pc13.into_push_pull_output(),
             true,
             device::TIMING,
-            Mono::now().ticks(),
+            0,
         );
         if housekeeping::spawn().is_err() {
             defmt::panic!("housekeeping spawned twice");
@@ -218,7 +220,7 @@ mod app {
     /// A DMA block is full. Deadline: the next block (1 ms at rates of 1 kHz and more).
     #[task(binds = DMA2_STREAM0, priority = 3, shared = [sampler, tracker, status, stream, route])]
     fn dma(mut cx: dma::Context) {
-        let now_ms = Mono::now().ticks();
+        let now_ms = cx.shared.sampler.lock(Sampler::now_ms);
         let map = cx.shared.route.lock(|r| *r);
         let (mut tracker, mut status, mut stream) =
             (cx.shared.tracker, cx.shared.status, cx.shared.stream);
@@ -279,7 +281,14 @@ mod app {
         loop {
             next += 1.millis();
             Mono::delay_until(next).await;
-            let now_ms = next.ticks();
+            // A save holds the CPU at this priority for up to seconds: the deadlines it
+            // covered are skipped, not run in a burst that would compress the debounce; the
+            // time itself comes from TIM5, which counts on through an erase's stall.
+            let now = Mono::now();
+            if now > next + 1.millis() {
+                next = now;
+            }
+            let now_ms = cx.shared.sampler.lock(Sampler::now_ms);
             let arrives = tasks::check_stall(&mut cx.shared.sampler, &mut cx.shared.tracker);
             let sh = &mut cx.shared;
             let tick = cx.local.housekeeping.tick(

@@ -22,6 +22,7 @@
 use embedded_dma::WriteBuffer;
 use imu_app::device::block_len;
 use imu_app::sampling::{filled, mark_unfilled};
+use imu_app::uptime::Uptime;
 use imu_core::{Delivery, SampleLedger};
 use stm32f4xx_hal::{
     adc::{
@@ -126,6 +127,7 @@ pub struct Sampler {
     pins: Pins,
     rcc: Rcc,
     clock: Clock,
+    uptime: Uptime,
     ledger: SampleLedger,
 }
 
@@ -203,6 +205,7 @@ impl Sampler {
         tim.cr1().modify(|_, w| w.cen().set_bit());
         let mut ledger = ledger(fs_hz);
         ledger.start(clock.now());
+        let uptime = Uptime::new(TIMER_HZ / 1000, clock.now(), 0);
         Self {
             trigger: tim,
             arr,
@@ -212,6 +215,7 @@ impl Sampler {
             pins: hw.pins,
             rcc,
             clock,
+            uptime,
             ledger,
         }
     }
@@ -301,6 +305,12 @@ impl Sampler {
     pub fn resume(&mut self) {
         self.set_rate(self.arr);
         self.ledger.start(self.clock.now());
+    }
+
+    /// Milliseconds since sampling started, from TIM5 (`imu_app::uptime`): the one time
+    /// base of the DMA and housekeeping tasks, read at least every millisecond.
+    pub fn now_ms(&mut self) -> u32 {
+        self.uptime.update(self.clock.now())
     }
 
     /// The ledger's totals.
