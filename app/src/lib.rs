@@ -17,6 +17,7 @@
 //! | [`stream`] | raw ADC codes queued and cut into stream frames |
 //! | [`store`] | the profile in flash (sequential-storage) |
 //! | [`flash`] | the flash interface's erase and program sequences |
+//! | [`sampler`] | the sampling's decisions: rates, suspend, stalls, restarts, retiming |
 //! | [`sampling`] | a DMA block into the tracker (or the suspend probe) |
 //! | [`housekeeping`] | KEY, power, LED, log schedule every 1 ms |
 //! | [`status`] | calibration outcome, suspend state, LED choice |
@@ -31,6 +32,7 @@ pub mod flash;
 pub mod housekeeping;
 pub mod identity;
 pub mod mouse;
+pub mod sampler;
 pub mod sampling;
 pub mod status;
 pub mod store;

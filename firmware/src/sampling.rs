@@ -1,5 +1,7 @@
 //! Hardware-timed sampling: TIM2's update event triggers an ADC1 scan of X, Y, Z; DMA2
 //! stream 0 moves each scan into one of two buffers and interrupts when a buffer is full.
+//! This file programs the registers; every decision (rates, suspend, stalls, restarts, the
+//! order of a retime) is `imu_app::sampler`'s, tested on the host.
 //!
 //! # Design
 //! - No software trigger and no per-sample interrupt: TIM2 (TRGO on update, PSC 0 and the
@@ -20,7 +22,8 @@
 //!   loads the new ARR and starts a fresh ledger.
 
 use embedded_dma::WriteBuffer;
-use imu_app::device::block_len;
+pub use imu_app::sampler::Outcome;
+use imu_app::sampler::{Acquisition, DmaEvent, Sampling};
 use imu_app::sampling::{filled, mark_unfilled};
 use imu_app::uptime::Uptime;
 use imu_core::{Delivery, SampleLedger};
@@ -106,29 +109,22 @@ pub struct Hardware {
     pub pins: Pins,
 }
 
-/// What an interrupt or a stall check produced.
-pub enum Outcome {
-    /// A block was handed to the closure.
-    Block,
-    /// Nothing to do (not a transfer-complete event, or an unfilled buffer dropped).
-    Idle,
-    /// Sampling was restarted; this many sample triples were lost.
-    Restarted(u32),
-}
-
-/// The sampling pipeline's hardware and its ledger.
-pub struct Sampler {
+/// The board's half of the sampling: TIM2, the DMA transfer and its spare buffer, the ADC's
+/// pins and reset, and TIM5 ([`Acquisition`] for `imu_app::sampler`).
+struct Board {
     trigger: TIM2,
-    /// TIM2's auto-reload at the running rate, and the block length [triples].
-    arr: u32,
-    block: usize,
     transfer: Option<AdcTransfer>,
     spare: Option<Block>,
     pins: Pins,
     rcc: Rcc,
     clock: Clock,
+}
+
+/// The sampling pipeline: the board's registers and the app's decisions over them.
+pub struct Sampler {
+    board: Board,
+    logic: Sampling,
     uptime: Uptime,
-    ledger: SampleLedger,
 }
 
 fn adc_config() -> AdcConfig {
@@ -169,13 +165,51 @@ fn armed(stream: Stream0<DMA2>, adc: Adc<ADC1>, mut a: Block, mut b: Block) -> A
     t
 }
 
-/// The ledger of a rate the device accepts (`imu_app::device::rate_accepted`, checked by
-/// the caller; every accepted rate builds: `app/tests/device.rs`).
-fn ledger(fs_hz: u32) -> SampleLedger {
-    let Ok(ledger) = SampleLedger::new(TIMER_HZ, fs_hz, block_len(fs_hz) as u32) else {
-        defmt::panic!("ledger at {} Hz (see app/tests/device.rs)", fs_hz)
+/// The decisions at a rate the device accepts (`imu_app::device::rate_accepted`, checked
+/// by the caller; every accepted rate builds: `app/tests/device.rs`).
+fn logic(fs_hz: u32) -> Sampling {
+    let Ok(logic) = Sampling::new(TIMER_HZ, fs_hz, PROBE_ARR, STALL_BLOCKS) else {
+        defmt::panic!("sampling at {} Hz (see app/tests/device.rs)", fs_hz)
     };
-    ledger
+    logic
+}
+
+impl Acquisition for Board {
+    fn now(&self) -> u32 {
+        self.clock.now()
+    }
+
+    fn set_period(&mut self, arr: u32) {
+        self.trigger.arr().write(|w| w.arr().set(arr));
+        self.trigger.egr().write(|w| w.ug().set_bit());
+    }
+
+    fn stop(&mut self) {
+        self.trigger.cr1().modify(|_, w| w.cen().clear_bit());
+    }
+
+    fn run(&mut self) {
+        self.trigger.cr1().modify(|_, w| w.cen().set_bit());
+    }
+
+    fn rearm(&mut self, words: usize) {
+        if let Some(spare) = self.spare.as_mut() {
+            spare.resize(words);
+        }
+        if let Some(transfer) = self.transfer.take() {
+            let (stream, mut adc, mut a, b) = transfer.release();
+            // A full ADC reset is the one way the HAL offers to clear OVR.
+            <ADC1 as Reset>::reset(&mut self.rcc);
+            fresh_adc(&mut adc, &self.pins);
+            a.resize(words);
+            // A double-buffered transfer always returns its second buffer; without one the
+            // sampling stays stopped and the stall check keeps reporting no data.
+            if let Some(mut b) = b {
+                b.resize(words);
+                self.transfer = Some(armed(stream, adc, a, b));
+            }
+        }
+    }
 }
 
 impl Sampler {
@@ -191,150 +225,96 @@ impl Sampler {
     ) -> Self {
         let mut adc = Adc::new(hw.adc1, true, adc_config(), &mut rcc);
         fresh_adc(&mut adc, &hw.pins);
-        let block = block_len(fs_hz);
-        let [a, b, spare] = buffers.map(|w| Block::new(w, 3 * block));
+        let mut logic = logic(fs_hz);
+        let [a, b, spare] = buffers.map(|w| Block::new(w, 3 * logic.block()));
         let transfer = armed(hw.stream, adc, a, b);
         TIM2::enable(&mut rcc);
         TIM2::reset(&mut rcc);
         let tim = hw.tim2;
-        let arr = TIMER_HZ / fs_hz - 1;
         tim.psc().write(|w| w.psc().set(0));
-        tim.arr().write(|w| w.arr().set(arr));
         tim.cr2().modify(|_, w| w.mms().update());
-        tim.egr().write(|w| w.ug().set_bit());
-        tim.cr1().modify(|_, w| w.cen().set_bit());
-        let mut ledger = ledger(fs_hz);
-        ledger.start(clock.now());
         let uptime = Uptime::new(TIMER_HZ / 1000, clock.now(), 0);
-        Self {
+        let mut board = Board {
             trigger: tim,
-            arr,
-            block,
             transfer: Some(transfer),
             spare: Some(spare),
             pins: hw.pins,
             rcc,
             clock,
+        };
+        logic.start(&mut board);
+        Self {
+            board,
+            logic,
             uptime,
-            ledger,
         }
     }
 
-    /// Runs the sampling at `fs_hz` (an accepted rate) from now: TIM2 stopped, the DMA
-    /// re-armed with blocks of the new length, the new ARR loaded, a fresh ledger, TIM2
-    /// started. The samples of the old rate still in flight are dropped (the tracker
+    /// Runs the sampling at `fs_hz` (an accepted rate) from now (`imu_app::sampler`: TIM2
+    /// stopped, the DMA re-armed with blocks of the new length, a fresh ledger, the new ARR,
+    /// TIM2 run). The samples of the old rate still in flight are dropped (the tracker
     /// recalibrates after a new configuration anyway).
     pub fn retime(&mut self, fs_hz: u32) {
-        self.trigger.cr1().modify(|_, w| w.cen().clear_bit());
-        self.block = block_len(fs_hz);
-        self.arr = TIMER_HZ / fs_hz - 1;
-        let len = 3 * self.block;
-        if let Some(spare) = self.spare.as_mut() {
-            spare.resize(len);
+        if self.logic.retime(&mut self.board, fs_hz).is_err() {
+            defmt::panic!("sampling at {} Hz (see app/tests/device.rs)", fs_hz);
         }
-        if let Some(transfer) = self.transfer.take() {
-            let (stream, mut adc, mut a, b) = transfer.release();
-            <ADC1 as Reset>::reset(&mut self.rcc);
-            fresh_adc(&mut adc, &self.pins);
-            a.resize(len);
-            if let Some(mut b) = b {
-                b.resize(len);
-                self.transfer = Some(armed(stream, adc, a, b));
-            }
-        }
-        self.ledger = ledger(fs_hz);
-        self.ledger.start(self.clock.now());
-        self.set_rate(self.arr);
-        self.trigger.cr1().modify(|_, w| w.cen().set_bit());
     }
 
     /// Handles the DMA interrupt: a full block goes to `take` as `[x, y, z]` triples with
     /// the ledger's verdict; an unfilled buffer is dropped; a DMA overrun restarts sampling.
     pub fn on_dma(&mut self, take: impl FnOnce(&[[u16; 3]], Delivery)) -> Outcome {
-        let now = self.clock.now();
-        let (Some(transfer), Some(mut spare)) = (self.transfer.as_mut(), self.spare.take()) else {
-            return self.restart(now);
+        let b = &mut self.board;
+        let (Some(transfer), Some(mut spare)) = (b.transfer.as_mut(), b.spare.take()) else {
+            return self.logic.on_dma(&mut self.board, DmaEvent::Overrun);
         };
         mark_unfilled(spare.codes_mut());
-        match transfer.next_transfer(spare) {
-            Ok((full, _)) if filled(full.codes()) => {
-                let delivery = self.ledger.block(now);
-                take(full.codes().as_chunks::<3>().0, delivery);
-                self.spare = Some(full);
-                Outcome::Block
-            }
-            Ok((unfilled, _)) => {
-                self.ledger.unfilled();
-                self.spare = Some(unfilled);
-                Outcome::Idle
-            }
-            Err(DMAError::NotReady(spare)) => {
-                self.spare = Some(spare);
-                Outcome::Idle
-            }
+        let (event, back) = match transfer.next_transfer(spare) {
+            Ok((full, _)) if filled(full.codes()) => (DmaEvent::Full, full),
+            Ok((unfilled, _)) => (DmaEvent::Unfilled, unfilled),
+            Err(DMAError::NotReady(spare)) => (DmaEvent::NotReady, spare),
             Err(DMAError::Overrun(spare) | DMAError::SmallBuffer(spare)) => {
-                self.spare = Some(spare);
-                self.restart(now)
+                (DmaEvent::Overrun, spare)
             }
+        };
+        let outcome = self.logic.on_dma(&mut self.board, event);
+        if let Outcome::Block(delivery) = outcome {
+            take(back.codes().as_chunks::<3>().0, delivery);
         }
+        self.board.spare = Some(back);
+        outcome
     }
 
     /// Restarts the sampling if no block has arrived for [`STALL_BLOCKS`] block periods at
-    /// the running rate (or none since the start or the last restart).
+    /// the running rate (or none since the start or the last restart); never while
+    /// suspended.
     pub fn check_stalled(&mut self) -> Outcome {
-        let now = self.clock.now();
-        if self.ledger.stalled(now, STALL_BLOCKS * self.block as u32) {
-            self.restart(now)
-        } else {
-            Outcome::Idle
-        }
+        self.logic.check_stalled(&mut self.board)
     }
 
-    /// Whether blocks arrive (a block since the last start or restart).
+    /// Whether blocks arrive (a block since the last start or restart), or the sampling is
+    /// paused on purpose.
     pub fn delivering(&self) -> bool {
-        self.ledger.delivering() || !self.ledger.running()
+        self.logic.delivering()
     }
 
     /// USB suspend: TIM2 at the probe rate; the ledger pauses (no stall, nothing lost).
     pub fn suspend(&mut self) {
-        self.ledger.pause();
-        self.set_rate(PROBE_ARR);
+        self.logic.suspend(&mut self.board);
     }
 
     /// USB resume: TIM2 back at the running rate; the ledger counts from now.
     pub fn resume(&mut self) {
-        self.set_rate(self.arr);
-        self.ledger.start(self.clock.now());
+        self.logic.resume(&mut self.board);
+    }
+
+    /// The ledger's totals.
+    pub fn ledger(&self) -> &SampleLedger {
+        self.logic.ledger()
     }
 
     /// Milliseconds since sampling started, from TIM5 (`imu_app::uptime`): the one time
     /// base of the DMA and housekeeping tasks, read at least every millisecond.
     pub fn now_ms(&mut self) -> u32 {
-        self.uptime.update(self.clock.now())
-    }
-
-    /// The ledger's totals.
-    pub fn ledger(&self) -> &SampleLedger {
-        &self.ledger
-    }
-
-    fn set_rate(&mut self, arr: u32) {
-        self.trigger.arr().write(|w| w.arr().set(arr));
-        self.trigger.egr().write(|w| w.ug().set_bit());
-    }
-
-    fn restart(&mut self, now: u32) -> Outcome {
-        if let Some(transfer) = self.transfer.take() {
-            let (stream, mut adc, a, b) = transfer.release();
-            // A full ADC reset is the one way the HAL offers to clear OVR.
-            <ADC1 as Reset>::reset(&mut self.rcc);
-            fresh_adc(&mut adc, &self.pins);
-            // A double-buffered transfer always returns its second buffer; without one the
-            // sampling stays stopped and the stall check keeps reporting no data.
-            if let Some(b) = b {
-                self.transfer = Some(armed(stream, adc, a, b));
-            }
-        }
-        Outcome::Restarted(self.ledger.restart(now))
+        self.uptime.update(self.board.clock.now())
     }
 }
