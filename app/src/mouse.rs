@@ -111,6 +111,11 @@ impl Reports {
             UsbDeviceState::Default | UsbDeviceState::Addressed => Link::NotConfigured,
         };
         if link != self.link {
+            // A bus reset (the host re-enumerates) empties the endpoint; a suspend or a
+            // resume keeps what is in it, delivered when the host polls again.
+            if link == Link::NotConfigured {
+                self.reporter.endpoint_lost();
+            }
             self.reporter.host_reset();
             self.link = link;
         }

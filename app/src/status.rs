@@ -44,6 +44,11 @@ impl Status {
         self.power.suspended()
     }
 
+    /// The suspend probe's motion threshold [ADC codes on any axis].
+    pub const fn wake_motion_lsb(&self) -> u16 {
+        self.power.motion_lsb()
+    }
+
     /// A probe sample `[x, y, z]` [ADC codes] while suspended.
     pub fn probe(&mut self, codes: [u16; 3]) {
         self.power.probe(codes);

@@ -78,6 +78,16 @@ fn a_report_still_in_the_endpoint_at_a_bus_reset_is_lost_and_counted_discarded()
         (r.reporter().sent_total(), r.reporter().discarded()),
         ((10, 0), (0, 0))
     );
+    // A suspend keeps the endpoint's buffer: delivered after the resume, not discarded.
+    let mut r = Reports::default();
+    r.update(Configured, RIGHT_10, false, accept);
+    r.update(Suspend, [0; 3], false, |_| panic!("suspended"));
+    r.update(Configured, [0; 3], false, |_| Err(UsbError::WouldBlock));
+    r.update(Configured, [0; 3], true, |_| Err(UsbError::WouldBlock));
+    assert_eq!(
+        (r.reporter().sent_total(), r.reporter().discarded()),
+        ((10, 0), (0, 0))
+    );
     // A second report taken by the stack means the first left the buffer: delivered.
     let mut r = Reports::default();
     r.update(Configured, RIGHT_10, false, accept);

@@ -139,13 +139,17 @@ impl Reporter {
     /// [`Self::discard_motion`]) and the host is assumed to know no buttons, so held buttons
     /// are reported again.
     pub fn host_reset(&mut self) {
-        // A report still in the endpoint's buffer is lost with it.
+        self.discard_motion();
+        self.sent_buttons = 0;
+    }
+
+    /// The endpoint's buffer was lost (a bus reset; a suspend keeps it): a report still in
+    /// flight never reaches the host, and is counted discarded.
+    pub fn endpoint_lost(&mut self) {
         if let Some((x, y)) = self.in_flight.take() {
             self.discarded.0 = self.discarded.0.wrapping_add(i64::from(x));
             self.discarded.1 = self.discarded.1.wrapping_add(i64::from(y));
         }
-        self.discard_motion();
-        self.sent_buttons = 0;
     }
 
     /// The motion of a report the USB stack took that the host has not yet taken [counts]
@@ -201,7 +205,7 @@ impl Reporter {
 
     /// Records that the USB stack took `report` (from [`Self::pending`]) into the endpoint's
     /// buffer: its motion is no longer owed, but it is in flight until the host's IN transfer
-    /// completes ([`Self::delivered`]); a bus reset first loses it ([`Self::host_reset`]
+    /// completes ([`Self::delivered`]); a bus reset first loses it ([`Self::endpoint_lost`]
     /// counts it discarded). A stack that takes a report has a free buffer, so a report
     /// still in flight then was delivered.
     pub fn accepted(&mut self, report: &MouseReport) {

@@ -65,6 +65,11 @@ impl Power {
         }
     }
 
+    /// The motion threshold [ADC codes on any axis].
+    pub const fn motion_lsb(&self) -> u16 {
+        self.motion_lsb
+    }
+
     /// Whether the device is suspended (sampling for tracking stopped).
     pub const fn suspended(&self) -> bool {
         self.suspended_at.is_some()

@@ -184,6 +184,12 @@ fn a_report_is_sent_when_the_host_takes_it_and_lost_if_the_bus_resets_first() {
     let rep = r.pending().expect("motion");
     r.accepted(&rep);
     r.host_reset();
+    assert_eq!(
+        r.in_flight(),
+        (-7, 9),
+        "a suspend or resume keeps the endpoint's buffer"
+    );
+    r.endpoint_lost();
     assert_eq!((r.in_flight(), r.discarded()), ((0, 0), (-7, 9)));
     assert_eq!(r.sent_total(), (30, -4));
     // A report taken by the stack while one is in flight: the first left the buffer.

@@ -5,8 +5,6 @@
 
 use std::net::SocketAddr;
 use std::path::Path;
-use std::sync::atomic::AtomicBool;
-use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -40,7 +38,7 @@ fn start_twin(port: u16, flash: &Path, seconds: f64) -> (SocketAddr, JoinHandle<
     };
     let input = scene(seconds);
     let handle = std::thread::spawn(move || {
-        twin::run(&input, settings, Arc::new(AtomicBool::new(false)), flash).expect("twin ran")
+        twin::run(&input, settings, twin::Operator::default(), flash).expect("twin ran")
     });
     (addr, handle)
 }

@@ -188,6 +188,23 @@ def main():
         twin.stdin.flush()
         print("twin_check: held button re-sent after a disconnect and reconnect")
 
+        # Suspend (USB/IP has none: the twin's operator suspends its bus) with remote wake-up
+        # allowed, then KEY pressed: the device must signal a wake-up, the twin resumes the
+        # bus as a host would, and tracking goes on.
+        drv.handle.control(0x00, 0x03, 0x0001, 0, b"")  # SET_FEATURE DEVICE_REMOTE_WAKEUP
+        twin.stdin.write("suspend\n")
+        twin.stdin.flush()
+        time.sleep(0.4)
+        twin.stdin.write("press\n")
+        twin.stdin.flush()
+        time.sleep(0.2)
+        twin.stdin.write("release\n")
+        twin.stdin.flush()
+        # Suspended again, untouched: the scene's next stroke must wake the host.
+        time.sleep(0.3)
+        twin.stdin.write("suspend\n")
+        twin.stdin.flush()
+
         state["limit_s"] = float("inf")
         read_until_closed(drv, decode, count)
         out, _ = twin.communicate(timeout=TIMEOUT_S)
@@ -206,6 +223,23 @@ def main():
         fail(f"the device's counts do not add up: {s}")
     if s["sent"] == [0, 0]:
         fail("no motion was delivered")
+    # The suspend: a wake-up within 100 ms of its cause (motion seen by the probe, or KEY),
+    # no sampling restart while suspended, resumed afterwards.
+    print(f"twin_check: suspended at {s['suspends_ms']} ms, causes {s['causes']}, "
+          f"wake-ups {s['wakes_ms']}, resumed at {s['resumes_ms']}")
+    if len(s["suspends_ms"]) != 2 or len(s["wakes_ms"]) != 2 or len(s["causes"]) != 2:
+        fail("each of the two suspends did not end in one remote wake-up")
+    if [kind for _, kind in s["causes"]] != ["key", "motion"]:
+        fail(f"wake-ups caused by {s['causes']}, wanted KEY then motion")
+    latencies = [w - c for w, (c, _) in zip(s["wakes_ms"], s["causes"])]
+    if not all(0 <= d <= 100 for d in latencies):
+        fail(f"remote wake-ups {latencies} ms after their causes (at most 100)")
+    if s["restarts_suspended"]:
+        fail(f"{s['restarts_suspended']} sampling restarts while suspended (no ADC data)")
+    if len(s["resumes_ms"]) != 2 or s["resumes_ms"][-1] < s["suspends_ms"][-1]:
+        fail("not resumed after each suspend")
+    print(f"twin_check: remote wake-ups {latencies} ms after KEY and after motion; "
+          "no restart while suspended")
     window = [b - a for a, b in zip(stamps, stamps[1:]) if b - a < 0.1]
     rate = len(window) / sum(window) if window else 0.0
     print(f"twin_check: report rate while moving {rate:.0f} per s (device peak "

@@ -1,9 +1,9 @@
 //! `cargo lab twin`: the firmware's application as a USB/IP mouse on this host
 //! ([`crate::device::twin`]), fed in real time by the desk scene or a recording. KEY is
-//! pressed and released by `press` and `release` lines on stdin.
+//! pressed and released by `press` and `release` lines on stdin, the bus suspended and resumed
+//! by `suspend` and `resume` lines.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::Ordering;
 
 use crate::device::flash::FileFlash;
 use crate::device::twin;
@@ -83,20 +83,23 @@ fn input(a: &Args) -> Result<twin::Input, Error> {
     Ok(input)
 }
 
-/// KEY, held while the last line on stdin was `press` and not yet `release`.
-fn operator_key() -> Arc<AtomicBool> {
-    let operator = Arc::new(AtomicBool::new(false));
-    let key = operator.clone();
+/// The operator on stdin: KEY, held while the last of `press` / `release` was `press`; and
+/// the bus, suspended by `suspend` and resumed by `resume` (USB/IP has no suspend).
+fn operator() -> twin::Operator {
+    let op = twin::Operator::default();
+    let (key, bus) = (op.key.clone(), op.bus.clone());
     std::thread::spawn(move || {
         for line in std::io::stdin().lines().map_while(Result::ok) {
             match line.trim() {
                 "press" => key.store(true, Ordering::Relaxed),
                 "release" => key.store(false, Ordering::Relaxed),
+                "suspend" => bus.store(twin::SUSPEND, Ordering::Relaxed),
+                "resume" => bus.store(twin::RESUME, Ordering::Relaxed),
                 _ => {}
             }
         }
     });
-    operator
+    op
 }
 
 /// Runs `cargo lab twin` until the scene has played and the host has drained it.
@@ -110,7 +113,7 @@ pub fn run(a: &Args) -> Outcome {
         Some(path) => FileFlash::open(path).map_err(|e| Error::file(path, e))?,
         None => FileFlash::blank(),
     };
-    let operator = operator_key();
+    let operator = operator();
     eprintln!(
         "twin: USB/IP device on {} (bus id 1-1); waiting for a host",
         a.addr

@@ -19,22 +19,30 @@
 //! `block_len(fs)` per millisecond, whatever rate the scene was made for, and a new rate
 //! changes the block length from the next millisecond (the board retimes its ADC trigger).
 //!
-//! What the twin cannot show: USB electrical behaviour, suspend (USB/IP has none), the
-//! ADC, DMA and timers (the board layer), timing under interrupt load.
+//! The sampling's decisions are the board's (`imu_app::sampler` over a stand-in timer):
+//! suspend drops to the probe's block of three scans every 60 ms, resume and stalls as on
+//! the board. USB/IP has no suspend: `suspend` / `resume` lines idle and wake the bus (no
+//! traffic while suspended), and a remote wake-up the device signals resumes it as a host
+//! would; the summary gives each suspend, its cause of wake-up (`key`, or the scene's first
+//! sample past the probe's threshold) and the wake-up's time.
+//!
+//! What the twin cannot show: USB electrical behaviour (suspend current, resume
+//! signalling), the ADC, DMA and timers (the board layer), timing under interrupt load.
 
 use std::net::SocketAddr;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use embedded_hal::digital::{ErrorType, InputPin, OutputPin};
 use imu_app::commands::Commands;
 use imu_app::control::{self, Resources};
+use imu_app::sampler::{Acquisition, DmaEvent, Outcome, Sampling};
 use imu_app::store::Store;
 use imu_app::stream::Stream;
 use imu_app::{device, identity, sampling::on_block, Housekeeping, Mouse, Status};
 use imu_core::protocol::Source;
-use imu_core::{hid::screen_motion, Delivery, Link, Tracker};
+use imu_core::{hid::screen_motion, Link, PowerAction, Tracker};
 use rtic_core::Exclusive;
 use serde::Serialize;
 use usb_device::bus::UsbBusAllocator;
@@ -44,6 +52,46 @@ use crate::device::usbip::{Listing, Traffic, UsbIpBus};
 
 /// The sample clock the twin's rates must divide [Hz]: the board's timer clock.
 const CLOCK_HZ: u32 = 96_000_000;
+/// The suspend probe's rate [Hz] and the stall limit [blocks], as the board's
+/// (`firmware/src/board.rs`).
+const PROBE_HZ: u32 = 50;
+const STALL_BLOCKS: u32 = 5;
+/// Scans in a probe block (the board's blocks at the probe rate: 3 triples).
+const PROBE_SCANS: usize = 3;
+
+/// [`Operator::bus`]: suspend the bus.
+pub const SUSPEND: u8 = 1;
+/// [`Operator::bus`]: resume the bus.
+pub const RESUME: u8 = 2;
+
+/// What the operator does from standard input: KEY, and the bus's suspend and resume.
+#[derive(Clone, Debug, Default)]
+pub struct Operator {
+    /// KEY held.
+    pub key: Arc<AtomicBool>,
+    /// A bus request not yet carried out: 0, [`SUSPEND`] or [`RESUME`].
+    pub bus: Arc<AtomicU8>,
+}
+
+/// The twin's sampling hardware for `imu_app::sampler`: a timer counting the twin's
+/// milliseconds at the board's clock, and the trigger's period (the running rate's or the
+/// probe's) that decides which blocks the scene delivers.
+struct TwinBoard {
+    now: u32,
+    arr: u32,
+}
+
+impl Acquisition for TwinBoard {
+    fn now(&self) -> u32 {
+        self.now
+    }
+    fn set_period(&mut self, arr: u32) {
+        self.arr = arr;
+    }
+    fn stop(&mut self) {}
+    fn run(&mut self) {}
+    fn rearm(&mut self, _words: usize) {}
+}
 
 /// The device's inputs: ADC codes and the finger on KEY, sample by sample.
 #[derive(Clone, Debug)]
@@ -131,6 +179,18 @@ pub struct Summary {
     pub final_fs_hz: u32,
     /// Raw stream frames sent.
     pub stream_frames: u32,
+    /// When the bus was suspended and resumed, and when the device signalled remote wake-up
+    /// [ms of the scene].
+    pub suspends_ms: Vec<u32>,
+    /// See [`Self::suspends_ms`].
+    pub resumes_ms: Vec<u32>,
+    /// See [`Self::suspends_ms`].
+    pub wakes_ms: Vec<u32>,
+    /// What asked for each wake-up while suspended, and when [ms]: `key` (a press) or
+    /// `motion` (the first probe block past the wake threshold).
+    pub causes: Vec<(u32, &'static str)>,
+    /// Sampling restarts (stalls or overruns) while suspended.
+    pub restarts_suspended: u32,
 }
 
 /// KEY of the twin: the scene's finger, or the operator's.
@@ -200,7 +260,7 @@ fn serve_until(mouse: &mut Mouse<'_, UsbIpBus>, deadline: Instant, stream: &mut 
 pub fn run(
     input: &Input,
     s: Settings,
-    operator: Arc<AtomicBool>,
+    operator: Operator,
     flash: FileFlash,
 ) -> Result<Summary, TwinError> {
     if !device::rate_accepted(input.fs_hz, CLOCK_HZ) {
@@ -231,7 +291,7 @@ pub fn run(
     let scene_key = Arc::new(AtomicBool::new(false));
     let key = Key {
         scene: scene_key.clone(),
-        operator,
+        operator: operator.key.clone(),
     };
     let mut hk = Housekeeping::new(key, false, Led::default(), false, device::TIMING, 0);
 
@@ -247,6 +307,12 @@ pub fn run(
         );
     }
 
+    let probe_arr = CLOCK_HZ / PROBE_HZ - 1;
+    let new_sampling = |fs_hz| Sampling::new(CLOCK_HZ, fs_hz, probe_arr, STALL_BLOCKS);
+    let mut sampling = new_sampling(config.fs_hz).map_err(|e| TwinError::Device(e.to_string()))?;
+    let mut board = TwinBoard { now: 0, arr: 0 };
+    sampling.start(&mut board);
+    let mut power = PowerLog::default();
     let mut block = device::block_len(config.fs_hz);
     let tick = Duration::from_millis(1);
     let (mut produced, mut per_ms) = ([0i64; 2], Vec::new());
@@ -255,21 +321,49 @@ pub fn run(
     let mut drain_left = (s.drain_s * 1000.0) as u32;
     let (mut ms, mut played) = (0u32, 0usize);
     loop {
+        board.now = ms.wrapping_mul(CLOCK_HZ / 1000);
+        match operator.bus.swap(0, Ordering::Relaxed) {
+            SUSPEND => monitor.request_suspend(true),
+            RESUME => monitor.request_suspend(false),
+            _ => {}
+        }
         if played + block <= input.codes.len() {
-            let chunk = &input.codes[played..played + block];
             scene_key.store(
                 input.held.get(played).copied().unwrap_or(false),
                 Ordering::Relaxed,
             );
-            on_block(
-                chunk,
-                Delivery::OnTime,
-                ms,
-                route,
-                &mut Exclusive(&mut tracker),
-                &mut Exclusive(&mut status),
-                &mut Exclusive(&mut stream),
-            );
+            // Running: a block a millisecond. Suspended: the probe's block of three scans
+            // 20 ms apart, every 60 ms, the last of them now, from the scene as it goes on.
+            let probing = board.arr == probe_arr;
+            let step = (input.fs_hz / PROBE_HZ) as usize;
+            let due = !probing || ms % (PROBE_SCANS as u32 * 1000 / PROBE_HZ) == 0;
+            let chunk: Vec<[u16; 3]> = if probing {
+                (0..PROBE_SCANS)
+                    .rev()
+                    .map(|k| input.codes[(played + block - 1).saturating_sub(k * step)])
+                    .collect()
+            } else {
+                input.codes[played..played + block].to_vec()
+            };
+            if due {
+                if let Outcome::Block(delivery) = sampling.on_dma(&mut board, DmaEvent::Full) {
+                    power.probed(&status, &chunk);
+                    on_block(
+                        &chunk,
+                        delivery,
+                        ms,
+                        route,
+                        &mut Exclusive(&mut tracker),
+                        &mut Exclusive(&mut status),
+                        &mut Exclusive(&mut stream),
+                    );
+                }
+            }
+            // The motion's onset as the scene has it: its first sample, at the full rate,
+            // past the wake threshold from the suspend's first probe.
+            if power.moved(&status, &input.codes[played..played + block]) {
+                power.cause(ms, "motion");
+            }
             played += block;
         } else {
             scene_key.store(false, Ordering::Relaxed);
@@ -295,7 +389,10 @@ pub fn run(
         };
         let effect = control::serve(&mut r, || 0);
         if effect.retime {
-            block = device::block_len(commands.running().config.fs_hz);
+            let fs_hz = commands.running().config.fs_hz;
+            block = device::block_len(fs_hz);
+            sampling = new_sampling(fs_hz).map_err(|e| TwinError::Device(e.to_string()))?;
+            sampling.start(&mut board);
         }
         if effect.save {
             let ok = store.save(commands.running()).is_ok();
@@ -306,13 +403,38 @@ pub fn run(
             );
         }
         control::push_stream(&mut Exclusive(&mut mouse), &mut Exclusive(&mut stream));
-        hk.tick(
+        if let Outcome::Restarted(lost) = sampling.check_stalled(&mut board) {
+            tracker.restarted(lost);
+            power.restarts += u32::from(status.suspended());
+        }
+        let pressed_before = hk_pressed(&operator, &scene_key);
+        let done = hk.tick(
             ms,
-            true,
+            sampling.delivering(),
             &mut Exclusive(&mut tracker),
             &mut Exclusive(&mut status),
             &mut Exclusive(&mut mouse),
         );
+        if status.suspended() && pressed_before && !power.key_was {
+            power.cause(ms, "key");
+        }
+        power.key_was = pressed_before;
+        match done.power {
+            PowerAction::Suspend => {
+                sampling.suspend(&mut board);
+                power.suspends.push(ms);
+            }
+            PowerAction::Resume => {
+                sampling.resume(&mut board);
+                power.resumes.push(ms);
+            }
+            PowerAction::Wake => {
+                // A host resumes the bus on the device's remote wake-up signalling.
+                power.wakes.push(ms);
+                monitor.request_suspend(false);
+            }
+            PowerAction::None => {}
+        }
         next += tick;
         if Instant::now() > next + tick {
             late_ticks += 1;
@@ -322,6 +444,7 @@ pub fn run(
         ms += 1;
     }
     let end = End {
+        power,
         played,
         source: loaded.source,
         final_fs_hz: commands.running().config.fs_hz,
@@ -338,8 +461,59 @@ pub fn run(
     ))
 }
 
+/// KEY as the twin's pin reads it.
+fn hk_pressed(operator: &Operator, scene: &AtomicBool) -> bool {
+    operator.key.load(Ordering::Relaxed) || scene.load(Ordering::Relaxed)
+}
+
+/// Suspend, resume and remote wake-up as they happened [ms of the scene].
+#[derive(Default)]
+struct PowerLog {
+    suspends: Vec<u32>,
+    resumes: Vec<u32>,
+    wakes: Vec<u32>,
+    causes: Vec<(u32, &'static str)>,
+    restarts: u32,
+    key_was: bool,
+    reference: Option<[u16; 3]>,
+}
+
+impl PowerLog {
+    /// A wake-up's cause `kind` at `ms`: the first of a suspend not yet woken.
+    fn cause(&mut self, ms: u32, kind: &'static str) {
+        let waiting = self.wakes.len() < self.suspends.len();
+        if waiting && self.causes.len() == self.wakes.len() {
+            self.causes.push((ms, kind));
+        }
+    }
+
+    /// A probe block while suspended: the first of a suspend is the reference the device
+    /// compares with (its last scan, as `imu_core::Power::probe` takes it).
+    fn probed(&mut self, status: &Status, chunk: &[[u16; 3]]) {
+        if !status.suspended() {
+            self.reference = None;
+        } else if self.reference.is_none() {
+            self.reference = chunk.last().copied();
+        }
+    }
+
+    /// Whether any of `samples` (the scene at the full rate, while suspended) is past the
+    /// wake threshold from the reference: the motion a probe can next see.
+    fn moved(&self, status: &Status, samples: &[[u16; 3]]) -> bool {
+        let threshold = status.wake_motion_lsb();
+        match (status.suspended(), self.reference) {
+            (true, Some(r)) => samples
+                .iter()
+                .any(|c| r.iter().zip(c).any(|(a, b)| a.abs_diff(*b) > threshold)),
+            _ => false,
+        }
+    }
+}
+
 /// How the run ended, beyond the mouse's accounts.
 struct End {
+    /// Suspends, resumes and wake-ups.
+    power: PowerLog,
     /// Scene samples played.
     played: usize,
     /// Where the profile came from at start-up.
@@ -387,5 +561,10 @@ fn summary(
         profile_source: format!("{:?}", end.source),
         final_fs_hz: end.final_fs_hz,
         stream_frames: end.stream_frames,
+        suspends_ms: end.power.suspends.clone(),
+        resumes_ms: end.power.resumes.clone(),
+        wakes_ms: end.power.wakes.clone(),
+        causes: end.power.causes.clone(),
+        restarts_suspended: end.power.restarts,
     }
 }

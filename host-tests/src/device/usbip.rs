@@ -108,6 +108,11 @@ struct Inner {
     rx: Vec<u8>,
     attached: bool,
     reset_pending: bool,
+    /// A suspend (`true`) or resume (`false`) of the bus asked for by the twin's operator
+    /// (USB/IP has neither), reported by the next poll.
+    bus_request: Option<bool>,
+    /// Suspended: the bus is idle, as a suspended bus is (the host's transfers wait).
+    suspended: bool,
     ins: [Option<InEp>; ENDPOINTS],
     outs: [Option<OutEp>; ENDPOINTS],
     control: Option<Control>,
@@ -142,6 +147,8 @@ impl UsbIpBus {
             rx: Vec::new(),
             attached: false,
             reset_pending: false,
+            bus_request: None,
+            suspended: false,
             ins: Default::default(),
             outs: Default::default(),
             control: None,
@@ -164,6 +171,12 @@ impl Monitor {
     /// Traffic so far.
     pub fn traffic(&self) -> Traffic {
         lock(&self.0).traffic
+    }
+
+    /// Suspends (`true`) or resumes (`false`) the bus at the next poll, as a host's idle bus
+    /// or its resume signalling would (USB/IP carries neither: the twin's operator asks).
+    pub fn request_suspend(&self, suspend: bool) {
+        lock(&self.0).bus_request = Some(suspend);
     }
 
     /// Whether a host has imported the device and is connected.
@@ -630,6 +643,14 @@ impl UsbBus for UsbIpBus {
 
     fn poll(&self) -> PollResult {
         let mut inner = self.lock();
+        if inner.suspended {
+            // No traffic on a suspended bus: the host's transfers wait for the resume.
+            if inner.bus_request.take() == Some(false) {
+                inner.suspended = false;
+                return PollResult::Resume;
+            }
+            return PollResult::None;
+        }
         inner.service();
         if inner.reset_pending {
             inner.reset_pending = false;
@@ -646,7 +667,15 @@ impl UsbBus for UsbIpBus {
         }
         let ep_in_complete = std::mem::take(&mut inner.in_complete);
         if ep_out | ep_setup | ep_in_complete == 0 {
-            return PollResult::None;
+            // A suspend follows the bus's last traffic (3 ms of idle on a real bus), so it
+            // is reported only once no transfer is left to report.
+            return match inner.bus_request.take() {
+                Some(true) => {
+                    inner.suspended = true;
+                    PollResult::Suspend
+                }
+                Some(false) | None => PollResult::None,
+            };
         }
         PollResult::Data {
             ep_out,
