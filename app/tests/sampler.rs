@@ -70,8 +70,13 @@ fn a_stall_at_the_running_rate_restarts_and_counts_what_was_lost() {
     b.now += 32_000 * 2;
     b.calls.clear();
     // 5 ms and two samples since the last block: 17 samples lost.
+    assert!(s.delivering(), "blocks came since the start");
     assert_eq!(s.check_stalled(&mut b), Outcome::Restarted(17));
     assert_eq!(b.calls, [Call::Rearm(9)]);
+    assert!(
+        !s.delivering(),
+        "restarted, and no block since: no ADC data"
+    );
     assert_eq!(s.ledger().counters().lost, 17);
 }
 

@@ -115,6 +115,7 @@ fn calibration_outcomes_reach_the_led() {
 fn suspended_blocks_are_probes_that_wake_the_host_on_motion() {
     let (mut t, mut s) = (tracker(), Status::new(20));
     assert!(!s.suspended());
+    assert_eq!(s.wake_motion_lsb(), 20);
     // A bus that reads suspended before any host configured the device is not a suspend.
     assert_eq!(s.power(0, Link::Suspended, true, false), PowerAction::None);
     assert!(!s.suspended());

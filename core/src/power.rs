@@ -167,6 +167,7 @@ mod tests {
     #[test]
     fn suspend_and_resume_follow_the_link() {
         let mut p = Power::new(12);
+        assert_eq!(p.motion_lsb(), 12, "the threshold it was built with");
         suspended(&mut p);
         assert_eq!(p.tick(2, Link::Suspended, true, false), PowerAction::None);
         assert_eq!(
