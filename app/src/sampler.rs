@@ -95,13 +95,16 @@ impl Sampling {
         stall_blocks: u32,
     ) -> Result<Self, LedgerError> {
         let block = block_len(fs_hz);
+        // The ledger refuses a rate of 0 or one that does not divide the clock, so the
+        // period below is a whole number of cycles, at least one.
+        let ledger = SampleLedger::new(timer_hz, fs_hz, block as u32)?;
         Ok(Self {
             timer_hz,
-            arr: (timer_hz / fs_hz.max(1)).saturating_sub(1),
+            arr: timer_hz / fs_hz - 1,
             block,
             probe_arr,
             stall_blocks,
-            ledger: SampleLedger::new(timer_hz, fs_hz, block as u32)?,
+            ledger,
         })
     }
 

@@ -344,40 +344,42 @@ mod tests {
         assert!((ratio - 2.0).abs() < 0.01, "{ratio}");
     }
 
-    /// The lag-`l` covariance of `codes`' tick sums per sample, `C_l / (k D)`, in f64 (see
-    /// [`Calibration::tick_lags_q32`]); 0 with fewer than 4 ticks.
-    fn tick_lag_f64(codes: &[u16], tick: usize, l: usize) -> f64 {
+    /// The centred lag sums of `codes`' tick sums per sample in f64, from their definition
+    /// (see [`Calibration`]): tick sums `t`, `C_l = sum (t[i] - m)(t[i-l] - m)` for `l = 0..=3`,
+    /// over `k D`; `None` with fewer than 4 ticks.
+    fn lags_f64(codes: &[u16], tick: usize) -> Option<[f64; 4]> {
         let t: Vec<f64> = codes
             .chunks_exact(tick)
             .map(|c| c.iter().map(|&x| f64::from(x)).sum())
             .collect();
         if t.len() < 4 {
-            return 0.0;
+            return None;
         }
         let k = t.len() as f64;
         let m = t.iter().sum::<f64>() / k;
-        let c: f64 = (l..t.len()).map(|i| (t[i] - m) * (t[i - l] - m)).sum();
-        c / (k * tick as f64)
+        let per = k * tick as f64;
+        Some(core::array::from_fn(|l| {
+            (l..t.len())
+                .map(|i| (t[i] - m) * (t[i - l] - m))
+                .sum::<f64>()
+                / per
+        }))
     }
 
-    /// The tick variances of `codes` in f64 from their definition (see [`Calibration`]):
-    /// tick sums `t`, centred lag sums `C_l = sum (t[i] - m)(t[i-l] - m)`, `g_l = C_l / k`,
-    /// per sample `/ tick`; floored at 1/4 LSB^2, the long-run one also at half the tick one.
+    /// The lag-`l` covariance per sample, `C_l / (k D)` (see
+    /// [`Calibration::tick_lags_q32`]); 0 with fewer than 4 ticks.
+    fn tick_lag_f64(codes: &[u16], tick: usize, l: usize) -> f64 {
+        lags_f64(codes, tick).map_or(0.0, |c| c[l])
+    }
+
+    /// The tick variances `g0 / D` and `(g0 + 2 g1 + 2 g2) / D` in f64; floored at 1/4
+    /// LSB^2, the long-run one also at half the tick one.
     fn tick_variances_f64(codes: &[u16], tick: usize) -> (f64, f64) {
-        let t: Vec<f64> = codes
-            .chunks_exact(tick)
-            .map(|c| c.iter().map(|&x| f64::from(x)).sum())
-            .collect();
-        let k = t.len() as f64;
-        if t.len() < 4 {
+        let Some(c) = lags_f64(codes, tick) else {
             return (0.25, 0.25);
-        }
-        let m = t.iter().sum::<f64>() / k;
-        let c = |l: usize| -> f64 { (l..t.len()).map(|i| (t[i] - m) * (t[i - l] - m)).sum() };
-        let per = k * tick as f64;
-        let g0 = c(0) / per;
-        let long = (c(0) + 2.0 * c(1) + 2.0 * c(2)) / per;
-        (g0.max(0.25), long.max(g0 / 2.0).max(0.25))
+        };
+        let long = c[0] + 2.0 * c[1] + 2.0 * c[2];
+        (c[0].max(0.25), long.max(c[0] / 2.0).max(0.25))
     }
 
     #[test]

@@ -194,9 +194,17 @@ pub struct Summary {
 }
 
 /// KEY of the twin: the scene's finger, or the operator's.
+#[derive(Clone)]
 struct Key {
     scene: Arc<AtomicBool>,
     operator: Arc<AtomicBool>,
+}
+
+impl Key {
+    /// Whether the scene's finger or the operator holds KEY.
+    fn held(&self) -> bool {
+        self.scene.load(Ordering::Relaxed) || self.operator.load(Ordering::Relaxed)
+    }
 }
 
 impl ErrorType for Key {
@@ -205,7 +213,7 @@ impl ErrorType for Key {
 
 impl InputPin for Key {
     fn is_high(&mut self) -> Result<bool, Self::Error> {
-        Ok(self.scene.load(Ordering::Relaxed) || self.operator.load(Ordering::Relaxed))
+        Ok(self.held())
     }
     fn is_low(&mut self) -> Result<bool, Self::Error> {
         self.is_high().map(|h| !h)
@@ -293,6 +301,7 @@ pub fn run(
         scene: scene_key.clone(),
         operator: operator.key.clone(),
     };
+    let key_seen = key.clone();
     let mut hk = Housekeeping::new(key, false, Led::default(), false, device::TIMING, 0);
 
     let waited = Instant::now();
@@ -337,19 +346,20 @@ pub fn run(
             let probing = board.arr == probe_arr;
             let step = (input.fs_hz / PROBE_HZ) as usize;
             let due = !probing || ms % (PROBE_SCANS as u32 * 1000 / PROBE_HZ) == 0;
-            let chunk: Vec<[u16; 3]> = if probing {
-                (0..PROBE_SCANS)
-                    .rev()
-                    .map(|k| input.codes[(played + block - 1).saturating_sub(k * step)])
-                    .collect()
+            let probe: [[u16; 3]; PROBE_SCANS] = core::array::from_fn(|k| {
+                let back = (PROBE_SCANS - 1 - k) * step;
+                input.codes[(played + block - 1).saturating_sub(back)]
+            });
+            let chunk: &[[u16; 3]] = if probing {
+                &probe
             } else {
-                input.codes[played..played + block].to_vec()
+                &input.codes[played..played + block]
             };
             if due {
                 if let Outcome::Block(delivery) = sampling.on_dma(&mut board, DmaEvent::Full) {
-                    power.probed(&status, &chunk);
+                    power.probed(&status, chunk);
                     on_block(
-                        &chunk,
+                        chunk,
                         delivery,
                         ms,
                         route,
@@ -407,7 +417,7 @@ pub fn run(
             tracker.restarted(lost);
             power.restarts += u32::from(status.suspended());
         }
-        let pressed_before = hk_pressed(&operator, &scene_key);
+        let pressed_before = key_seen.held();
         let done = hk.tick(
             ms,
             sampling.delivering(),
@@ -459,11 +469,6 @@ pub fn run(
         late_ticks,
         &end,
     ))
-}
-
-/// KEY as the twin's pin reads it.
-fn hk_pressed(operator: &Operator, scene: &AtomicBool) -> bool {
-    operator.key.load(Ordering::Relaxed) || scene.load(Ordering::Relaxed)
 }
 
 /// Suspend, resume and remote wake-up as they happened [ms of the scene].
