@@ -19,6 +19,7 @@
 //! | [`flash`] | the flash interface's erase and program sequences |
 //! | [`sampler`] | the sampling's decisions: rates, suspend, stalls, restarts, retiming |
 //! | [`sampling`] | a DMA block into the tracker (or the suspend probe) |
+//! | [`sleep`] | Stop mode while suspended: when to stop, what a wake-up means |
 //! | [`housekeeping`] | KEY, power, LED, log schedule every 1 ms |
 //! | [`status`] | calibration outcome, suspend state, LED choice |
 //! | [`uptime`] | milliseconds since boot from a hardware counter |
@@ -34,6 +35,7 @@ pub mod identity;
 pub mod mouse;
 pub mod sampler;
 pub mod sampling;
+pub mod sleep;
 pub mod status;
 pub mod store;
 pub mod stream;

@@ -9,8 +9,9 @@
 //!
 //! - **Suspend**: the ledger pauses (no stall, nothing lost, nothing late) and the trigger
 //!   drops to the probe rate; the probe's slow blocks keep the ledger paused
-//!   ([`imu_core::SampleLedger::pause`]). **Resume**: the running period again, the ledger
-//!   counting from now.
+//!   ([`imu_core::SampleLedger::pause`]). **Resume**: the acquisition rebuilt in a retime's
+//!   order (the board may have parked it in Stop mode, `crate::sleep`), the ledger counting
+//!   from now.
 //! - **Stall**: no block for `stall_blocks` block periods at the running rate (or none since
 //!   the start or the last restart): the ADC is reset and the DMA re-armed, and the samples
 //!   since the last good block are counted lost. Never while suspended.
@@ -181,10 +182,14 @@ impl Sampling {
         hw.set_period(self.probe_arr);
     }
 
-    /// USB resume: the running period, the ledger counting from now.
+    /// USB resume: the acquisition rebuilt as after a retime (trigger stopped, DMA re-armed
+    /// for the running block, the running period, a fresh ledger, trigger run). Rebuilt, not
+    /// only retimed: in Stop mode the board parks the DMA and takes its probe scans by
+    /// software with the ADC switched off between them (`crate::sleep`).
     pub fn resume(&mut self, hw: &mut impl Acquisition) {
-        hw.set_period(self.arr);
-        self.ledger.start(hw.now());
+        hw.stop();
+        hw.rearm(3 * self.block);
+        self.start(hw);
     }
 
     fn restart(&mut self, hw: &mut impl Acquisition) -> Outcome {

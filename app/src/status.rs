@@ -54,6 +54,12 @@ impl Status {
         self.power.probe(codes);
     }
 
+    /// Whether a probe found motion that the next tick at `now_ms` [ms] would signal (see
+    /// [`Power::motion_pending`]).
+    pub fn motion_pending(&self, now_ms: u32, remote_wakeup: bool) -> bool {
+        self.power.motion_pending(now_ms, remote_wakeup)
+    }
+
     /// The suspend decision for this tick (see [`Power::tick`]).
     pub fn power(
         &mut self,

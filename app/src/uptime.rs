@@ -46,6 +46,15 @@ impl Uptime {
         self.ms
     }
 
+    /// Adds `ms` [ms] the counter did not see (it stops with the clocks in Stop mode,
+    /// `crate::sleep`), from the counter's reading `now` [cycles] on: the cycles before `now`
+    /// since the last reading are counted first, the remainder carried.
+    pub fn credit(&mut self, now: u32, ms: u32) -> u32 {
+        self.update(now);
+        self.ms = self.ms.wrapping_add(ms);
+        self.ms
+    }
+
     /// The milliseconds at the last [`Self::update`].
     pub const fn ms(&self) -> u32 {
         self.ms

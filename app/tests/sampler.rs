@@ -104,10 +104,15 @@ fn while_suspended_the_probe_blocks_never_restart_sampling() {
     assert!(s.delivering(), "a paused sampling is not a failed one");
     assert_eq!(s.ledger().counters().restarts, 0);
     assert!(!b.calls.contains(&Call::Rearm(9)));
-    // Resumed: the running period, and the stall check at its limits again.
+    // Resumed: the acquisition rebuilt in a retime's order (in Stop mode the board parked
+    // it), the running period, and the stall check at its limits again.
     b.calls.clear();
     s.resume(&mut b);
-    assert_eq!(b.calls, [Call::Period(31_999)]);
+    assert_eq!(
+        b.calls,
+        [Call::Stop, Call::Rearm(9), Call::Period(31_999), Call::Run]
+    );
+    assert!(s.ledger().running(), "counting from the resume");
     b.now += 6 * 96_000;
     assert!(matches!(s.check_stalled(&mut b), Outcome::Restarted(_)));
 }

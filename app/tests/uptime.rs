@@ -50,3 +50,13 @@ fn a_rate_of_zero_is_taken_as_one_cycle_a_millisecond() {
     let mut u = Uptime::new(0, 10, 0);
     assert_eq!(u.update(15), 5);
 }
+
+#[test]
+fn time_in_stop_mode_is_credited_on_top_of_the_counted_cycles() {
+    // The counter stops with the clocks in Stop mode: 1.5 ms counted, then 40 ms slept
+    // (two probe periods), then 0.7 ms counted: 42 ms, the fraction carried on.
+    let mut u = Uptime::new(PER_MS, 0, 100);
+    assert_eq!(u.credit(PER_MS * 3 / 2, 40), 141);
+    assert_eq!(u.update(PER_MS * 3 / 2 + PER_MS * 7 / 10), 142);
+    assert_eq!(u.ms(), 142);
+}

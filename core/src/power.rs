@@ -133,12 +133,8 @@ impl Power {
                 PowerAction::Resume
             }
             (Some(at), Link::Suspended) => {
-                let idle = now_ms.wrapping_sub(at) >= Self::WAKE_AFTER_MS;
-                let rested = self
-                    .woke_at
-                    .is_none_or(|w| now_ms.wrapping_sub(w) >= Self::WAKE_RETRY_MS);
                 let cause = press || self.moved;
-                if remote_wakeup && idle && rested && cause {
+                if cause && self.may_signal(at, now_ms, remote_wakeup) {
                     self.woke_at = Some(now_ms);
                     self.moved = false;
                     self.reference = None;
@@ -148,6 +144,29 @@ impl Power {
                 }
             }
         }
+    }
+}
+
+impl Power {
+    /// Whether a motion probe found motion that the next [`Self::tick`] at `now_ms` [ms]
+    /// would signal to a host that enabled `remote_wakeup`: the board keeps its clocks for
+    /// it (`imu_app::sleep`). False while awake.
+    pub fn motion_pending(&self, now_ms: u32, remote_wakeup: bool) -> bool {
+        match self.suspended_at {
+            Some(at) => self.moved && self.may_signal(at, now_ms, remote_wakeup),
+            None => false,
+        }
+    }
+
+    /// A wake-up signal is allowed at `now_ms`: the host enabled it, the bus has idled
+    /// [`Self::WAKE_AFTER_MS`] since the suspend seen at `at`, and the last signal is
+    /// [`Self::WAKE_RETRY_MS`] old.
+    fn may_signal(&self, at: u32, now_ms: u32, remote_wakeup: bool) -> bool {
+        let idle = now_ms.wrapping_sub(at) >= Self::WAKE_AFTER_MS;
+        let rested = self
+            .woke_at
+            .is_none_or(|w| now_ms.wrapping_sub(w) >= Self::WAKE_RETRY_MS);
+        remote_wakeup && idle && rested
     }
 }
 
@@ -225,6 +244,41 @@ mod tests {
         assert_eq!(
             p.tick(1012, Link::Configured, true, false),
             PowerAction::Resume
+        );
+    }
+
+    #[test]
+    fn motion_is_pending_only_when_the_next_tick_would_signal_it() {
+        let mut p = Power::new(12);
+        assert!(
+            !p.motion_pending(0, true),
+            "awake: no probe, nothing pending"
+        );
+        suspended(&mut p);
+        p.probe([2048, 2048, 2458]);
+        assert!(!p.motion_pending(10, true), "still: nothing");
+        p.probe([2048, 2048, 2471]);
+        assert!(
+            !p.motion_pending(3, true),
+            "the bus has not idled 5 ms since 1 ms"
+        );
+        assert!(
+            !p.motion_pending(10, false),
+            "the host did not enable remote wake-up"
+        );
+        assert!(p.motion_pending(6, true));
+        assert_eq!(p.tick(6, Link::Suspended, true, false), PowerAction::Wake);
+        assert!(!p.motion_pending(7, true), "signalled: the cause is spent");
+        p.probe([2048, 2048, 2458]);
+        p.probe([2048, 2048, 2500]);
+        assert!(
+            !p.motion_pending(1005, true),
+            "within the retry interval of the signal"
+        );
+        assert!(p.motion_pending(1006, true));
+        assert_eq!(
+            p.tick(1006, Link::Suspended, true, false),
+            PowerAction::Wake
         );
     }
 

@@ -19,7 +19,8 @@
 //! `init` checks the HAL's computed clocks against these constants.
 //! The ADC trigger is TIM2's update event (TRGO) at exactly the configured rate: PSC 0 and
 //! ARR = `TIMER_HZ / fs - 1`, exact for every accepted rate. TIM5 runs free at 96 MHz
-//! as the sample ledger's time base (it keeps counting while the core sleeps in `wfi`).
+//! as the sample ledger's time base (it keeps counting while the core sleeps in `wfi`; in
+//! Stop mode it stops with its clock, and the time asleep is credited, `crate::stop`).
 //!
 //! The sampling rate is a setting (`fs_hz`, set over USB and kept in flash; 3 kHz by
 //! default, the rate of the paper's experiments). The device accepts 100 to 20 000 Hz
@@ -71,6 +72,25 @@ pub const PROBE_HZ: u32 = 50;
 /// TIM2 auto-reload for [`PROBE_HZ`].
 pub const PROBE_ARR: u32 = TIMER_HZ / PROBE_HZ - 1;
 const _: () = assert!((PROBE_ARR as u64 + 1) * PROBE_HZ as u64 == TIMER_HZ as u64);
+
+/// The probe's period in Stop mode [ms]: the RTC wake-up timer's, from the LSI (`crate::stop`),
+/// at [`PROBE_HZ`].
+pub const PROBE_MS: u32 = 1000 / PROBE_HZ;
+const _: () = assert!(PROBE_MS * PROBE_HZ == 1000);
+
+/// The clock the core wakes on from Stop [Hz]: the HSI (RM0383 5.3.4).
+pub const HSI_HZ: u32 = 16_000_000;
+
+/// ADC power-up time before the first conversion [core cycles]: tSTAB (3 us at most, DS10314)
+/// at the wake clock, [`HSI_HZ`].
+pub const ADC_STAB_CYCLES: u32 = 3 * (HSI_HZ / 1_000_000);
+
+/// Register reads allowed for each step of the clock restore after Stop (HSE ready, PLL
+/// locked, switched) before the wake counts as failed and the board resets. A read takes at
+/// least 6 cycles of the 16 MHz HSI with its loop, so the bound is at least 37 ms a step,
+/// many times a crystal's start-up (DS10314 quotes 2 ms typical) and the PLL's lock (well
+/// under a millisecond): only a dead crystal or PLL reaches it.
+pub const RESTORE_SPINS: u32 = 100_000;
 
 /// Storage of one DMA buffer [u16]: the longest block (1 ms at 20 kHz) of X, Y, Z scans.
 pub const BUF_MAX: usize = 3 * imu_app::sampling::BLOCK_MAX;

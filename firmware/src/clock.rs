@@ -5,7 +5,8 @@
 //! unless the debug block keeps it (DBGMCU DBG_SLEEP, a debugger convenience), so a board
 //! running from a USB charger would mis-count lost samples. TIM5 shares its clock with TIM2
 //! (the ADC trigger), so a sample period is an exact number of its counts. It wraps every
-//! 44.7 s; the ledger measures gaps modulo 2^32.
+//! 44.7 s; the ledger measures gaps modulo 2^32. In Stop mode (USB suspend) it stops with
+//! every clock; `Sampler::slept` credits the time asleep (`imu_app::sleep`).
 
 use stm32f4xx_hal::{
     pac::TIM5,

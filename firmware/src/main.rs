@@ -18,7 +18,11 @@
 //!   the CPU; deadlines a save covered are skipped, not run in a burst.
 //! - `save` (1, async, spawned by a `save` or `defaults` request): the profile to flash; the
 //!   CPU stalls while the flash programs or erases (the watchdog allows for it).
-//! - `idle`: sleeps in `wfi`.
+//! - `key_wake`, `usb_wake`, `probe_wake` (4, EXTI0, OTG_FS_WKUP, RTC_WKUP): Stop mode's
+//!   wake-up lines, above every resource ceiling so that they end a Stop entered under the
+//!   idle loop's locks; each only clears its line (`stop.rs`).
+//! - `idle`: in USB suspend, Stop mode (`imu_app::sleep` decides, `stop.rs` programs it);
+//!   otherwise `wfi`.
 //!
 //! Wiring, clocks and the flash layout: see `board.rs`. The sampling rate and every other
 //! setting come from the profile in flash (`imu_app::store`), or the defaults.
@@ -28,6 +32,7 @@
 mod board;
 mod clock;
 mod sampling;
+mod stop;
 mod storage;
 mod tasks;
 mod wakeup;
@@ -55,6 +60,7 @@ mod app {
         pac::{self, Interrupt},
         prelude::*,
         rcc::{Clocks, Config},
+        rtc::Rtc,
         watchdog::IndependentWatchdog,
     };
     use usb_device::bus::UsbBusAllocator;
@@ -63,6 +69,7 @@ mod app {
     use crate::board::{self, BUF_MAX};
     use crate::clock::Clock;
     use crate::sampling::{Hardware, Outcome, Pins, Sampler};
+    use crate::stop::{self, Stop};
     use crate::storage::StoreFlash;
     use crate::tasks::{self, Snapshot};
     use crate::wakeup::RemoteWakeup;
@@ -76,14 +83,15 @@ mod app {
         commands: Commands,
         stream: Stream,
         route: AxisMap,
+        wakeup: RemoteWakeup,
+        watchdog: IndependentWatchdog,
     }
 
     #[local]
     struct Local {
         housekeeping: Housekeeping<PA0<Input>, PC13<Output>>,
-        wakeup: RemoteWakeup,
-        watchdog: IndependentWatchdog,
         store: Store<StoreFlash>,
+        stop: Stop,
     }
 
     /// The HAL's computed clocks against `board`'s constants: a mismatch stops at boot with
@@ -111,7 +119,7 @@ mod app {
         usb_bus: Option<UsbBusAllocator<UsbBusType>> = None,
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
-        let dp: pac::Peripherals = cx.device;
+        let mut dp: pac::Peripherals = cx.device;
         // 96 MHz needs regulator scale 1 before the PLL locks (RM0383 5.1.3).
         dp.RCC.apb1enr().modify(|_, w| w.pwren().set_bit());
         dp.PWR.cr().modify(|_, w| w.vos().scale1());
@@ -170,6 +178,17 @@ mod app {
         let mut watchdog = IndependentWatchdog::new(dp.IWDG);
         watchdog.stop_on_debug(&dp.DBGMCU, true);
         watchdog.start(board::WATCHDOG_MS.millis());
+        let rtc = Rtc::new_lsi(dp.RTC, &mut rcc, &mut dp.PWR);
+        let debugger = cortex_m::peripheral::DCB::is_debugger_attached();
+        let stop = Stop::new(
+            dp.EXTI,
+            dp.PWR,
+            rtc,
+            cx.core.SCB,
+            &rcc,
+            &dp.DBGMCU,
+            debugger,
+        );
 
         let clock = Clock::start(dp.TIM5, &mut rcc);
         let streams = StreamsTuple::new(dp.DMA2, &mut rcc);
@@ -207,12 +226,13 @@ mod app {
                 ),
                 stream: Stream::default(),
                 route: loaded.profile.map,
+                wakeup: RemoteWakeup::default(),
+                watchdog,
             },
             Local {
                 housekeeping,
-                wakeup: RemoteWakeup::default(),
-                watchdog,
                 store,
+                stop,
             },
         )
     }
@@ -275,7 +295,7 @@ mod app {
 
     /// Every millisecond, on a running deadline: stalled sampling, KEY, power, LED, logs,
     /// remote wake-up, watchdog.
-    #[task(priority = 1, shared = [tracker, sampler, status, mouse], local = [housekeeping, wakeup, watchdog])]
+    #[task(priority = 1, shared = [tracker, sampler, status, mouse, wakeup, watchdog], local = [housekeeping])]
     async fn housekeeping(mut cx: housekeeping::Context) {
         let mut next = Mono::now();
         loop {
@@ -301,10 +321,10 @@ mod app {
             match tick.power {
                 PowerAction::Suspend => sh.sampler.lock(Sampler::suspend),
                 PowerAction::Resume => sh.sampler.lock(Sampler::resume),
-                PowerAction::Wake => cx.local.wakeup.start(now_ms, &mut sh.mouse),
+                PowerAction::Wake => sh.wakeup.lock(|w| w.start(now_ms, &mut sh.mouse)),
                 PowerAction::None => {}
             }
-            cx.local.wakeup.tick(now_ms, &mut sh.mouse);
+            sh.wakeup.lock(|w| w.tick(now_ms, &mut sh.mouse));
             if tick.button.is_some() {
                 rtic::pend(Interrupt::OTG_FS);
             }
@@ -315,14 +335,35 @@ mod app {
                     &mut sh.mouse,
                 ));
             }
-            cx.local.watchdog.feed();
+            sh.watchdog.lock(IndependentWatchdog::feed);
         }
     }
 
-    #[idle]
-    fn idle(_: idle::Context) -> ! {
+    /// KEY pressed during a Stop (EXTI 0): the wake is the episode's to read.
+    #[task(binds = EXTI0, priority = 4)]
+    fn key_wake(_: key_wake::Context) {
+        stop::clear_line(stop::KEY_LINE);
+    }
+
+    /// Resume or reset signalling during a Stop (EXTI 18).
+    #[task(binds = OTG_FS_WKUP, priority = 4)]
+    fn usb_wake(_: usb_wake::Context) {
+        stop::clear_line(stop::USB_LINE);
+    }
+
+    /// The RTC wake-up timer during a Stop (EXTI 22).
+    #[task(binds = RTC_WKUP, priority = 4)]
+    fn probe_wake(_: probe_wake::Context) {
+        stop::clear_line(stop::RTC_LINE);
+    }
+
+    /// Stop mode while suspended, else `wfi` (`tasks::rest`).
+    #[idle(shared = [status, sampler, mouse, wakeup, watchdog], local = [stop])]
+    fn idle(cx: idle::Context) -> ! {
+        let mut s = cx.shared;
         loop {
-            cortex_m::asm::wfi();
+            let (st, sa, m) = (&mut s.status, &mut s.sampler, &mut s.mouse);
+            tasks::rest(cx.local.stop, st, sa, m, &mut s.wakeup, &mut s.watchdog);
         }
     }
 }

@@ -6,7 +6,9 @@
 //! # Design
 //! - No software trigger and no per-sample interrupt: TIM2 (TRGO on update, PSC 0 and the
 //!   ARR of `board`) starts each scan; the ADC's continuous bit stays off, or it would
-//!   free-run. Suspend lowers TIM2 to the probe rate; resume restores it.
+//!   free-run. Suspend lowers TIM2 to the probe rate; in Stop mode ([`Sampler::park`],
+//!   `crate::stop`) the transfer is parked and the probe scans are taken by software;
+//!   resume rebuilds the transfer and runs TIM2 at the running rate.
 //! - Double buffering with a third, spare buffer: on each transfer-complete interrupt the
 //!   spare goes to the DMA and the full buffer comes back, so the core reads a buffer the
 //!   DMA is not writing. Each buffer given to the DMA is marked unfilled
@@ -38,7 +40,9 @@ use stm32f4xx_hal::{
     rcc::{Enable, Rcc, Reset},
 };
 
-use crate::board::{ADC_PRESCALER, ADC_SAMPLE_TIME, BUF_MAX, PROBE_ARR, STALL_BLOCKS, TIMER_HZ};
+use crate::board::{
+    ADC_PRESCALER, ADC_SAMPLE_TIME, ADC_STAB_CYCLES, BUF_MAX, PROBE_ARR, STALL_BLOCKS, TIMER_HZ,
+};
 use crate::clock::Clock;
 
 /// The storage of one DMA buffer: the longest block's scans of X, Y, Z codes.
@@ -109,11 +113,22 @@ pub struct Hardware {
     pub pins: Pins,
 }
 
-/// The board's half of the sampling: TIM2, the DMA transfer and its spare buffer, the ADC's
-/// pins and reset, and TIM5 ([`Acquisition`] for `imu_app::sampler`).
+/// The DMA stream, the ADC and the two transfer buffers, released from the transfer while
+/// the board is in Stop mode (`crate::stop`): the CPU takes the probe's scans.
+struct Parked {
+    stream: Stream0<DMA2>,
+    adc: Adc<ADC1>,
+    a: Block,
+    b: Block,
+}
+
+/// The board's half of the sampling: TIM2, the DMA transfer (or its parts, parked) and its
+/// spare buffer, the ADC's pins and reset, and TIM5 ([`Acquisition`] for
+/// `imu_app::sampler`).
 struct Board {
     trigger: TIM2,
     transfer: Option<AdcTransfer>,
+    parked: Option<Parked>,
     spare: Option<Block>,
     pins: Pins,
     rcc: Rcc,
@@ -196,18 +211,28 @@ impl Acquisition for Board {
         if let Some(spare) = self.spare.as_mut() {
             spare.resize(words);
         }
-        if let Some(transfer) = self.transfer.take() {
-            let (stream, mut adc, mut a, b) = transfer.release();
+        if let Some(mut p) = self.parts() {
             // A full ADC reset is the one way the HAL offers to clear OVR.
             <ADC1 as Reset>::reset(&mut self.rcc);
-            fresh_adc(&mut adc, &self.pins);
-            a.resize(words);
-            // A double-buffered transfer always returns its second buffer; without one the
-            // sampling stays stopped and the stall check keeps reporting no data.
-            if let Some(mut b) = b {
-                b.resize(words);
-                self.transfer = Some(armed(stream, adc, a, b));
+            fresh_adc(&mut p.adc, &self.pins);
+            p.a.resize(words);
+            p.b.resize(words);
+            self.transfer = Some(armed(p.stream, p.adc, p.a, p.b));
+        }
+    }
+}
+
+impl Board {
+    /// The transfer's parts: released from the running transfer, or the parked ones. A
+    /// double-buffered transfer always returns its second buffer; without one the sampling
+    /// stays stopped and the stall check keeps reporting no data.
+    fn parts(&mut self) -> Option<Parked> {
+        match self.transfer.take() {
+            Some(transfer) => {
+                let (stream, adc, a, b) = transfer.release();
+                b.map(|b| Parked { stream, adc, a, b })
             }
+            None => self.parked.take(),
         }
     }
 }
@@ -237,6 +262,7 @@ impl Sampler {
         let mut board = Board {
             trigger: tim,
             transfer: Some(transfer),
+            parked: None,
             spare: Some(spare),
             pins: hw.pins,
             rcc,
@@ -305,6 +331,41 @@ impl Sampler {
     /// USB resume: TIM2 back at the running rate; the ledger counts from now.
     pub fn resume(&mut self) {
         self.logic.resume(&mut self.board);
+    }
+
+    /// Parks the acquisition for Stop mode: TIM2 stopped, the DMA stream disabled and its
+    /// parts kept, the ADC switched off (an enabled ADC draws its analog current in Stop).
+    /// Resume rebuilds it (`imu_app::sampler`: a resume re-arms).
+    pub fn park(&mut self) {
+        self.board.stop();
+        if let Some(mut p) = self.board.parts() {
+            p.adc.disable();
+            self.board.parked = Some(p);
+        }
+    }
+
+    /// One probe scan of X, Y, Z by software on the parked ADC, on whatever clock runs (the
+    /// HSI after a Stop), the ADC powered only for it; `None` if the acquisition could not
+    /// be parked. Each conversion waits for the ADC's end of conversion; an ADC that never
+    /// answers is the watchdog's.
+    pub fn probe_scan(&mut self) -> Option<[u16; 3]> {
+        self.park();
+        let p = self.board.parked.as_mut()?;
+        let pins = &self.board.pins;
+        p.adc.enable();
+        cortex_m::asm::delay(ADC_STAB_CYCLES);
+        let codes = [
+            p.adc.convert(&pins.x, ADC_SAMPLE_TIME),
+            p.adc.convert(&pins.y, ADC_SAMPLE_TIME),
+            p.adc.convert(&pins.z, ADC_SAMPLE_TIME),
+        ];
+        p.adc.disable();
+        Some(codes)
+    }
+
+    /// Adds `ms` [ms] spent in Stop mode, which TIM5 did not count (`imu_app::uptime`).
+    pub fn slept(&mut self, ms: u32) {
+        self.uptime.credit(self.board.clock.now(), ms);
     }
 
     /// The ledger's totals.

@@ -5,15 +5,19 @@
 
 use imu_app::commands::{Commands, Effect};
 use imu_app::control::Resources;
+use imu_app::sleep::{self, End};
 use imu_app::store::{Loaded, StoreError};
-use imu_app::Mouse;
+use imu_app::{Mouse, Status};
 use imu_core::profile::AxisMap;
 use imu_core::protocol::Source;
 use imu_core::{Counters, Event, LedgerCounters, Tracker};
 use rtic::Mutex;
-use stm32f4xx_hal::otg_fs::UsbBusType;
+use stm32f4xx_hal::{otg_fs::UsbBusType, watchdog::IndependentWatchdog};
 
+use crate::board;
 use crate::sampling::{Outcome, Sampler};
+use crate::stop::{self, Stop};
+use crate::wakeup::RemoteWakeup;
 
 /// Logs the profile the device starts with and where it came from.
 pub fn log_start(loaded: &Loaded) {
@@ -175,4 +179,48 @@ pub fn log_counters(s: &Snapshot) {
         s.drops,
         s.link
     );
+}
+
+/// The idle loop's one pass, interrupts masked throughout (so nothing changes between the
+/// decision and the Stop, and no handler runs on the wake clock): a Stop episode if
+/// `imu_app::sleep::may_stop` allows one, else `wfi`. An episode's slept time goes to the
+/// time base; one that could not restore the clocks resets the MCU.
+pub fn rest(
+    stop: &mut Stop,
+    status: &mut impl Mutex<T = Status>,
+    sampler: &mut impl Mutex<T = Sampler>,
+    mouse: &mut impl Mutex<T = Mouse<'static, UsbBusType>>,
+    wakeup: &mut impl Mutex<T = RemoteWakeup>,
+    watchdog: &mut impl Mutex<T = IndependentWatchdog>,
+) {
+    cortex_m::interrupt::free(|_| {
+        let now_ms = sampler.lock(Sampler::now_ms);
+        let remote = mouse.lock(|m| m.device().remote_wakeup_enabled());
+        let signalling = wakeup.lock(|w| w.active());
+        let key = stop::key_down();
+        if !status.lock(|s| sleep::may_stop(s, now_ms, remote, signalling, key)) {
+            cortex_m::asm::wfi();
+            return;
+        }
+        let episode = status.lock(|st| {
+            sampler.lock(|sa| {
+                watchdog.lock(|wd| {
+                    let mut board = stop::Board {
+                        stop,
+                        sampler: sa,
+                        watchdog: wd,
+                    };
+                    sleep::episode(&mut board, st, now_ms, remote, board::PROBE_MS)
+                })
+            })
+        });
+        sampler.lock(|s| s.slept(episode.slept_ms));
+        match episode.end {
+            End::Awake(why) => defmt::debug!("awake ({}), {} probes", why, episode.probes),
+            End::Reset(why) => {
+                defmt::error!("woken ({}), the clocks did not come back: reset", why);
+                cortex_m::peripheral::SCB::sys_reset()
+            }
+        }
+    });
 }

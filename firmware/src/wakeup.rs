@@ -35,6 +35,11 @@ impl RemoteWakeup {
         defmt::info!("remote wake-up: signalling the host");
     }
 
+    /// Whether the signal is on (the OTG core drives it from its 48 MHz clock: no Stop).
+    pub fn active(&self) -> bool {
+        self.until_ms.is_some()
+    }
+
     /// Ends the signal once its time is up.
     pub fn tick(&mut self, now_ms: u32, mouse: &mut impl Mutex<T = Mouse<'static, UsbBusType>>) {
         if let Some(until) = self.until_ms {

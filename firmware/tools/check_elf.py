@@ -1,6 +1,6 @@
 """CI check of the firmware ELF: the flash layout, flash and static RAM within budget, and
-the vector table binds the DMA and USB interrupts to their RTIC handlers (not to
-DefaultHandler).
+the vector table binds the DMA and USB interrupts and Stop mode's three wake-up lines
+(KEY, USB resume, the RTC's probe timer) to their RTIC handlers (not to DefaultHandler).
 
 Usage: check_elf.py ELF LLVM_BIN_DIR
 Layout (memory.x, firmware/src/board.rs): the vector table alone in sector 0, nothing in
@@ -26,8 +26,9 @@ TRACKER_BUDGET = 8 * 1024
 TRACKER_SYMBOL = "__rtic_internal_shared_resource_tracker"
 FLASH_ORIGIN = 0x0800_0000
 STORE = (0x0800_4000, 0x0800_C000)
-# STM32F411 IRQ numbers (RM0383 table 38): DMA2 stream 0 = 56, OTG_FS = 67.
-IRQS = {"DMA2_STREAM0": 56, "OTG_FS": 67}
+# STM32F411 IRQ numbers (RM0383 table 38): DMA2 stream 0 = 56, OTG_FS = 67; Stop mode's
+# wake-up lines: RTC wake-up (EXTI 22) = 3, EXTI 0 (KEY) = 6, OTG_FS_WKUP (EXTI 18) = 42.
+IRQS = {"DMA2_STREAM0": 56, "OTG_FS": 67, "RTC_WKUP": 3, "EXTI0": 6, "OTG_FS_WKUP": 42}
 
 
 def run(tool, *args):
