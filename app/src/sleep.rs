@@ -16,9 +16,10 @@
 //!   Back to Stop at once, unless the probe found motion that `Power` would signal now
 //!   ([`imu_core::Power::motion_pending`]).
 //!
-//! Any other wake (an interrupt that was already pending, so the core never stopped)
-//! restores the clocks and lets that interrupt run. The board stops only when nothing needs
-//! its clocks ([`may_stop`]): suspended, no remote wake-up being signalled (the OTG core
+//! Any other wake (an interrupt that was already pending, so the core never stopped; with a
+//! debugger attached, SysTick every millisecond) restores the clocks and lets that interrupt
+//! run. The board stops only when nothing needs its clocks ([`may_stop`]): suspended, the
+//! USB core still reading the bus suspended, no remote wake-up being signalled (the OTG core
 //! drives it from the 48 MHz clock), KEY released, no motion pending. Every rule here is a
 //! state, none a time constant: the board is awake exactly as long as something needs it.
 //!
@@ -73,7 +74,8 @@ pub enum Why {
     Key,
     /// The probe found motion that `Power` signals next.
     Motion,
-    /// The probe's scan failed: awake, so that the sampling's checks see the ADC.
+    /// The probe's scan failed (the acquisition could not be parked): awake; the next
+    /// episode tries again a probe period later, and the log says why.
     Scan,
     /// No wake-up source fired: an interrupt was pending, which now runs.
     Other,
@@ -101,17 +103,24 @@ pub struct Episode {
     pub end: End,
 }
 
-/// Whether the board may stop its clocks now, at `now_ms` [ms]: suspended, no remote
-/// wake-up `signalling`, KEY not `key_down` (its raw level), and no motion pending that
-/// `Power` would signal to a host that enabled `remote_wakeup`.
+/// Whether the board may stop its clocks now, at `now_ms` [ms]: suspended as `Power` saw it
+/// and `bus_suspended` still (the USB core's own reading, with no resume or reset pending:
+/// `Power` sees the link only once a millisecond, and a resume in between must not be
+/// slept through), no remote wake-up `signalling`, KEY not `key_down` (its raw level), and
+/// no motion pending that `Power` would signal to a host that enabled `remote_wakeup`.
 pub fn may_stop(
     status: &Status,
     now_ms: u32,
     remote_wakeup: bool,
     signalling: bool,
     key_down: bool,
+    bus_suspended: bool,
 ) -> bool {
-    status.suspended() && !signalling && !key_down && !status.motion_pending(now_ms, remote_wakeup)
+    status.suspended()
+        && bus_suspended
+        && !signalling
+        && !key_down
+        && !status.motion_pending(now_ms, remote_wakeup)
 }
 
 /// Runs one Stop episode from `now_ms` [ms]: Stop, and on each timer wake feed the watchdog,

@@ -76,25 +76,32 @@ fn suspended() -> Status {
 #[test]
 fn the_board_stops_only_when_nothing_needs_its_clocks() {
     let awake = Status::new(MOTION);
-    assert!(!sleep::may_stop(&awake, 10, true, false, false), "awake");
-    let mut s = suspended();
-    assert!(sleep::may_stop(&s, 10, true, false, false));
     assert!(
-        !sleep::may_stop(&s, 10, true, true, false),
+        !sleep::may_stop(&awake, 10, true, false, false, true),
+        "awake"
+    );
+    let mut s = suspended();
+    assert!(sleep::may_stop(&s, 10, true, false, false, true));
+    assert!(
+        !sleep::may_stop(&s, 10, true, false, false, false),
+        "the host resumed since Power's last tick: the USB core no longer reads suspended"
+    );
+    assert!(
+        !sleep::may_stop(&s, 10, true, true, false, true),
         "the OTG core signals a remote wake-up from its 48 MHz clock"
     );
     assert!(
-        !sleep::may_stop(&s, 10, true, false, true),
+        !sleep::may_stop(&s, 10, true, false, true, true),
         "KEY held: the debounce must see the press"
     );
     s.probe(STILL);
     s.probe(MOVED);
     assert!(
-        !sleep::may_stop(&s, 10, true, false, false),
+        !sleep::may_stop(&s, 10, true, false, false, true),
         "motion that the next tick signals"
     );
     assert!(
-        sleep::may_stop(&s, 10, false, false, false),
+        sleep::may_stop(&s, 10, false, false, false, true),
         "motion, but the host did not enable remote wake-up: nothing to signal"
     );
 }

@@ -36,7 +36,7 @@ use stm32f4xx_hal::{
     },
     dma::{config::DmaConfig, DMAError, PeripheralToMemory, Stream0, Transfer},
     gpio::{Analog, PA1, PA2, PA3},
-    pac::{ADC1, DMA2, TIM2},
+    pac::{self, ADC1, DMA2, TIM2},
     rcc::{Enable, Rcc, Reset},
 };
 
@@ -289,6 +289,10 @@ impl Sampler {
     /// Handles the DMA interrupt: a full block goes to `take` as `[x, y, z]` triples with
     /// the ledger's verdict; an unfilled buffer is dropped; a DMA overrun restarts sampling.
     pub fn on_dma(&mut self, take: impl FnOnce(&[[u16; 3]], Delivery)) -> Outcome {
+        if self.board.parked.is_some() {
+            // Parked for Stop mode: a stale event (see `park`); resume rebuilds the transfer.
+            return Outcome::Idle;
+        }
         let b = &mut self.board;
         let (Some(transfer), Some(mut spare)) = (b.transfer.as_mut(), b.spare.take()) else {
             return self.logic.on_dma(&mut self.board, DmaEvent::Overrun);
@@ -341,6 +345,9 @@ impl Sampler {
         if let Some(mut p) = self.board.parts() {
             p.adc.disable();
             self.board.parked = Some(p);
+            // Releasing the transfer cleared the stream's flags; a block that completed just
+            // before is still latched in the NVIC, and must not reach `on_dma` as an overrun.
+            cortex_m::peripheral::NVIC::unpend(pac::Interrupt::DMA2_STREAM0);
         }
     }
 

@@ -4,31 +4,36 @@
 //! `imu_app::sleep`'s, tested on the host.
 //!
 //! # Design
-//! - Wake-up lines (RM0383 10.2.5), armed in EXTI's interrupt mask only around each Stop,
-//!   so that awake they raise nothing: line 0 (PA0, KEY to ground: falling edge), line 18
+//! - Wake-up lines (RM0383 10.2.5): line 0 (PA0, KEY to ground: falling edge), line 18
 //!   (OTG_FS_WKUP: resume or reset signalling, rising), line 22 (the RTC wake-up timer, every
-//!   [`board::PROBE_MS`] from the LSI, rising). Their interrupts are bound at a priority
-//!   above every resource ceiling (`main.rs`), so `wfi` wakes inside the locks the episode
-//!   holds; the episode runs with interrupts masked, so the handlers (which only clear
-//!   their line) run once the clocks are back.
-//! - Entry: the sampling parked (TIM2 stopped, DMA off, ADC off), the USB PHY clock
-//!   stopped (PCGCCTL.STPPCLK, as RM0383 22.17.4 asks of a suspended core), PWR_CR: Stop
-//!   (PDDS 0) with the low-power regulator in low-voltage mode (LPDS, LPLVDS) and the
-//!   flash powered down (FPDS), SLEEPDEEP, `wfi`. A line already pending skips the Stop.
+//!   [`board::PROBE_MS`] from the LSI, rising). Masked while awake; unmasked for a whole
+//!   episode, whose first Stop clears them and restarts the RTC's period, while later Stops
+//!   clear only the timer's line, so that a KEY or USB edge between two Stops stays pending.
+//!   Their interrupts are bound at a priority above every resource ceiling (`main.rs`) and
+//!   `wfi` runs with BASEPRI lowered to 0 (PRIMASK set), so any pending interrupt ends a
+//!   Stop; the episode clears what it read in EXTI and in the NVIC, and the handlers (which
+//!   only clear their line) run once the clocks are back.
+//! - Entry: the sampling parked (TIM2 stopped, DMA off, ADC off), the USB PHY clock stopped
+//!   (PCGCCTL.STPPCLK, as ST's own suspend does), PWR_CR: Stop (PDDS 0) with the low-power
+//!   regulator in low-voltage mode (LPDS, LPLVDS) and the flash powered down (FPDS),
+//!   SLEEPDEEP, `wfi`. The Stop is skipped when a line is pending, KEY is held, or the OTG
+//!   core no longer reads the bus suspended ([`bus_suspended`]: a resume `imu_core::Power`
+//!   has not yet seen).
 //! - The core wakes on the HSI (16 MHz) with the PLL and HSE off; the prescalers, the
 //!   flash wait states and the PLL's configuration are kept. [`Stop::restore`] turns the
-//!   HSE on, locks the PLL, switches to it (each step bounded by
-//!   [`board::RESTORE_SPINS`]), checks RCC_CFGR and RCC_PLLCFGR against their values at boot
-//!   (after `check_clocks` passed), and only then restarts the PHY clock.
+//!   HSE on, locks the PLL, waits for the regulator's scale 1, switches to the PLL (each step
+//!   bounded by [`board::RESTORE_SPINS`]), checks RCC_CFGR and RCC_PLLCFGR against their
+//!   values at boot (after `check_clocks` passed), and only then restarts the PHY clock.
 //! - The debugger: with one attached at boot, DBGMCU.DBG_STOP keeps the debug port alive
-//!   in Stop (at a Stop current far above the data sheet's); without one, a real Stop.
+//!   in Stop (at a Stop current far above the data sheet's, and SysTick then ends every Stop
+//!   within a millisecond); without one, a real Stop.
 //!
 //! Only a board can show the current and the wake timing: see README, "Suspend current".
 
-use cortex_m::peripheral::SCB;
+use cortex_m::peripheral::{NVIC, SCB};
 use imu_app::sleep::{StopMode, Wakes};
 use stm32f4xx_hal::{
-    pac::{self, EXTI, PWR},
+    pac::{self, Interrupt, EXTI, PWR},
     rtc::{Event, Rtc},
     watchdog::IndependentWatchdog,
 };
@@ -69,6 +74,7 @@ pub struct Stop {
     rtc: Rtc,
     scb: SCB,
     boot: ClockTree,
+    armed: bool,
 }
 
 /// Clears the pending bit of EXTI `line` (the wake-up handlers' one job).
@@ -91,8 +97,8 @@ pub fn key_down() -> bool {
 /// Sets or clears the OTG core's PHY clock stop (PCGCCTL.STPPCLK).
 #[allow(unsafe_code)]
 fn phy_clock_stopped(stopped: bool) {
-    // SAFETY: PCGCCTL is written by the USB stack only at a bus reset (to 0), in the USB
-    // interrupt, which cannot run here: the episode runs with interrupts masked.
+    // SAFETY: synopsys-usb-otg writes PCGCCTL only when the bus is enabled at boot (to 0);
+    // this runs with interrupts masked, so nothing interleaves with the read-modify-write.
     let pwrclk = unsafe { &*pac::OTG_FS_PWRCLK::ptr() };
     pwrclk.pcgcctl().modify(|_, w| w.stppclk().bit(stopped));
 }
@@ -126,13 +132,14 @@ impl Stop {
             rtc,
             scb,
             boot: ClockTree::now(rcc),
+            armed: false,
         };
         stop.mask(true);
         dbgmcu.cr().modify(|_, w| w.dbg_stop().bit(debugger));
         stop
     }
 
-    /// Masks (awake) or unmasks (around a Stop) the three lines' interrupts.
+    /// Masks (awake) or unmasks (through an episode) the three lines' interrupts.
     fn mask(&mut self, masked: bool) {
         self.exti.imr().modify(|_, w| {
             for line in LINES {
@@ -152,25 +159,51 @@ impl Stop {
         }
     }
 
-    /// Clears the three lines' pending bits and the RTC's wake-up flag (the line is its
-    /// rising edge: a flag left set would never raise it again).
-    fn clear(&mut self) {
-        self.rtc.clear_interrupt(Event::Wakeup);
+    /// Clears `lines`' pending bits in EXTI and in the NVIC (an unmasked line latches its
+    /// interrupt there too, and a latched interrupt would end the next `wfi` at once), and
+    /// the RTC's wake-up flag with the RTC's line (the line is the flag's rising edge: a
+    /// flag left set would never raise it again).
+    fn clear(&mut self, lines: &[u8]) {
+        if lines.contains(&RTC_LINE) {
+            self.rtc.clear_interrupt(Event::Wakeup);
+        }
         self.exti.pr().write(|w| {
-            for line in LINES {
+            for &line in lines {
                 w.pr(line).clear();
             }
             w
         });
+        for &line in lines {
+            NVIC::unpend(match line {
+                KEY_LINE => Interrupt::EXTI0,
+                USB_LINE => Interrupt::OTG_FS_WKUP,
+                _ => Interrupt::RTC_WKUP,
+            });
+        }
     }
 
-    /// One Stop, the sampling parked first (see the module docs).
+    /// One Stop of an episode, the sampling parked first (see the module docs). The first
+    /// of an episode clears the three lines, restarts the RTC's period (so that the first
+    /// timer wake is a whole period after it) and unmasks them for the whole episode; later
+    /// ones clear only the timer's line, so that a KEY or USB edge between two Stops stays
+    /// pending. The Stop is skipped (its reason returned) when a line is already pending,
+    /// KEY is held, or the USB core no longer reads the bus suspended.
     fn enter(&mut self, sampler: &mut Sampler) -> Wakes {
         sampler.park();
+        if self.armed {
+            self.clear(&[RTC_LINE]);
+        } else {
+            self.clear(&LINES);
+            self.rtc
+                .enable_wakeup(fugit::MicrosDurationU64::millis(u64::from(board::PROBE_MS)));
+            self.mask(false);
+            self.armed = true;
+        }
         phy_clock_stopped(true);
-        self.clear();
-        self.mask(false);
-        if self.pending() == Wakes::default() {
+        let mut wakes = self.pending();
+        wakes.key |= key_down();
+        wakes.usb |= !bus_suspended();
+        if wakes == Wakes::default() {
             self.pwr.cr().modify(|_, w| {
                 w.pdds().clear_bit();
                 w.lpds().set_bit();
@@ -178,19 +211,25 @@ impl Stop {
                 w.fpds().set_bit()
             });
             self.scb.set_sleepdeep();
-            cortex_m::asm::dsb();
-            cortex_m::asm::wfi();
+            sleep_unmasked();
             self.scb.clear_sleepdeep();
+            wakes = self.pending();
         }
-        let fired = self.pending();
-        self.mask(true);
-        self.clear();
-        fired
+        wakes
     }
 
-    /// HSE, PLL, switch, then the clock tree checked against boot's; the PHY clock back.
+    /// Ends an episode: the lines masked and cleared (their handlers find nothing).
+    fn disarm(&mut self) {
+        self.mask(true);
+        self.clear(&LINES);
+        self.armed = false;
+    }
+
+    /// HSE, PLL, the regulator's scale, switch, then the clock tree checked against boot's;
+    /// the PHY clock back. The episode ends here either way.
     #[allow(unsafe_code)]
     fn restore(&mut self) -> bool {
+        self.disarm();
         // SAFETY: RCC_CR and RCC_CFGR are written only at boot (the HAL's `freeze`) and
         // here, with interrupts masked; the sampler's `Rcc` touches only the enable and reset
         // registers of its peripherals.
@@ -201,6 +240,9 @@ impl Stop {
                 rcc.cr().modify(|_, w| w.pllon().set_bit());
                 spin(|| rcc.cr().read().pllrdy().bit_is_set())
             }
+            // With the PLL off the regulator runs at scale 3; the scale 1 that 96 MHz needs
+            // is back only once the PLL is on (RM0383 5.1.3).
+            && spin(|| self.pwr.csr().read().vosrdy().bit_is_set())
             && {
                 rcc.cfgr().modify(|_, w| w.sw().pll());
                 spin(|| rcc.cfgr().read().sws().is_pll())
@@ -214,6 +256,33 @@ impl Stop {
         }
         same
     }
+}
+
+/// Whether the OTG core reads the bus suspended with no resume or reset pending
+/// (OTG_FS_DSTS.SUSPSTS set, GINTSTS.WKUPINT and USBRST clear): the host has not come back
+/// since `imu_core::Power` last saw the suspend.
+#[allow(unsafe_code)]
+pub fn bus_suspended() -> bool {
+    // SAFETY: reads of two status registers; nothing is written.
+    let (dev, global) = unsafe { (&*pac::OTG_FS_DEVICE::ptr(), &*pac::OTG_FS_GLOBAL::ptr()) };
+    let ints = global.gintsts().read();
+    dev.dsts().read().suspsts().bit_is_set()
+        && ints.wkupint().bit_is_clear()
+        && ints.usbrst().bit_is_clear()
+}
+
+/// `wfi` with BASEPRI lowered to 0 for it: the episode runs inside RTIC locks, and a pending
+/// interrupt below their ceiling (the USB interrupt after a resume, a DMA block) must end the
+/// Stop too. Sound because PRIMASK masks every handler meanwhile.
+#[allow(unsafe_code)]
+fn sleep_unmasked() {
+    let basepri = cortex_m::register::basepri::read();
+    // SAFETY: with PRIMASK set (the caller runs inside `interrupt::free`) no handler can run
+    // while BASEPRI is lowered, so no RTIC lock is broken; it is restored before return.
+    unsafe { cortex_m::register::basepri::write(0) };
+    cortex_m::asm::dsb();
+    cortex_m::asm::wfi();
+    unsafe { cortex_m::register::basepri::write(basepri) };
 }
 
 /// The board's Stop mode for one episode: the registers, the sampler (parked, and its

@@ -5,7 +5,7 @@
 
 use imu_app::commands::{Commands, Effect};
 use imu_app::control::Resources;
-use imu_app::sleep::{self, End};
+use imu_app::sleep::{self, End, Why};
 use imu_app::store::{Loaded, StoreError};
 use imu_app::{Mouse, Status};
 use imu_core::profile::AxisMap;
@@ -197,8 +197,8 @@ pub fn rest(
         let now_ms = sampler.lock(Sampler::now_ms);
         let remote = mouse.lock(|m| m.device().remote_wakeup_enabled());
         let signalling = wakeup.lock(|w| w.active());
-        let key = stop::key_down();
-        if !status.lock(|s| sleep::may_stop(s, now_ms, remote, signalling, key)) {
+        let (key, bus) = (stop::key_down(), stop::bus_suspended());
+        if !status.lock(|s| sleep::may_stop(s, now_ms, remote, signalling, key, bus)) {
             cortex_m::asm::wfi();
             return;
         }
@@ -216,6 +216,7 @@ pub fn rest(
         });
         sampler.lock(|s| s.slept(episode.slept_ms));
         match episode.end {
+            End::Awake(Why::Scan) => defmt::warn!("suspend probe: the ADC could not be parked"),
             End::Awake(why) => defmt::debug!("awake ({}), {} probes", why, episode.probes),
             End::Reset(why) => {
                 defmt::error!("woken ({}), the clocks did not come back: reset", why);
