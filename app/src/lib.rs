@@ -12,6 +12,7 @@
 //! | [`device`] | accepted rates, block length, tracker configuration, timing |
 //! | [`identity`] | who the device is on USB |
 //! | [`mouse`] | USB device: the HID mouse and the configuration interface |
+//! | [`opening`] | the first reports after a new configuration (Linux drops 50 ms of them) |
 //! | [`commands`] | configuration requests: responses and what the device must do |
 //! | [`control`] | a request from the bus through [`commands`] to the tracker and stream |
 //! | [`stream`] | raw ADC codes queued and cut into stream frames |
@@ -33,6 +34,7 @@ pub mod flash;
 pub mod housekeeping;
 pub mod identity;
 pub mod mouse;
+pub mod opening;
 pub mod sampler;
 pub mod sampling;
 pub mod sleep;

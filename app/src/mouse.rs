@@ -32,6 +32,7 @@ use usb_device::{
 use usbd_hid::hid_class::{HIDClass, HidClassSettings, HidProtocol, ProtocolModeConfig};
 
 use crate::identity;
+use crate::opening::{Gate, Opening};
 
 /// The HID report descriptor, in static memory as the class requires.
 static DESCRIPTOR: [u8; MOUSE_REPORT_DESCRIPTOR.len()] = MOUSE_REPORT_DESCRIPTOR;
@@ -82,16 +83,20 @@ pub struct Reports {
     reporter: Reporter,
     link: Link,
     drops: u32,
+    opening: Opening,
 }
 
 impl Reports {
-    /// One service after the USB stack's poll: the device's `state` now, the tracker's fresh
-    /// `counts` `[x, y, z]`, and `push`, which hands one report's bytes to the stack.
+    /// One service after the USB stack's poll at `now_ms` [ms]: the device's `state` now,
+    /// the tracker's fresh `counts` `[x, y, z]`, and `push`, which hands one report's bytes
+    /// to the stack.
     ///
     /// A change of the link (enumerated, reset, suspended, resumed) starts what the host
     /// knows afresh; while not configured, motion is discarded rather than delivered late as
-    /// a jump. A push refused with `WouldBlock` loses nothing (the motion stays owed); any
-    /// other refusal is counted in [`Self::drops`].
+    /// a jump. A new configuration opens with the held buttons alone and a quiet time
+    /// ([`crate::opening`]: Linux drops the reports of its first 50 ms). A push refused with
+    /// `WouldBlock` loses nothing (the motion stays owed); any other refusal is counted in
+    /// [`Self::drops`].
     ///
     /// `delivered`: the host's IN transfer of the report in flight completed in this poll
     /// (it is then counted as sent, before a link change could count it lost).
@@ -100,6 +105,7 @@ impl Reports {
         state: UsbDeviceState,
         counts: [i32; 3],
         delivered: bool,
+        now_ms: u32,
         push: impl FnOnce(&[u8]) -> Result<usize, UsbError>,
     ) {
         if delivered {
@@ -116,6 +122,9 @@ impl Reports {
             if link == Link::NotConfigured {
                 self.reporter.endpoint_lost();
             }
+            if link == Link::Configured && self.link == Link::NotConfigured {
+                self.opening.configured();
+            }
             self.reporter.host_reset();
             self.link = link;
         }
@@ -127,9 +136,22 @@ impl Reports {
             self.reporter.discard_motion();
             return;
         }
-        if let Some(report) = self.reporter.pending() {
+        let report = match self.opening.gate(delivered, now_ms) {
+            Gate::Hold => return,
+            Gate::Opening => Some(self.reporter.buttons_only()),
+            Gate::Open { resend } => {
+                if resend {
+                    self.reporter.resend_buttons();
+                }
+                self.reporter.pending()
+            }
+        };
+        if let Some(report) = report {
             match push(&report.to_bytes()) {
-                Ok(_) => self.reporter.accepted(&report),
+                Ok(_) => {
+                    self.reporter.accepted(&report);
+                    self.opening.sent();
+                }
                 Err(UsbError::WouldBlock) => {}
                 Err(_) => self.drops = self.drops.wrapping_add(1),
             }
@@ -254,16 +276,16 @@ impl<'a, B: UsbBus> Mouse<'a, B> {
         })
     }
 
-    /// Polls the USB stack, adds the tracker's fresh `counts` `[x, y, z]` and pushes the next
-    /// pending report, if any ([`Reports::update`]); takes a configuration request into the
-    /// inbox if it is empty, and pushes the next response.
-    pub fn service(&mut self, counts: [i32; 3]) {
+    /// Polls the USB stack at `now_ms` [ms], adds the tracker's fresh `counts` `[x, y, z]`
+    /// and pushes the next pending report, if any ([`Reports::update`]); takes a
+    /// configuration request into the inbox if it is empty, and pushes the next response.
+    pub fn service(&mut self, counts: [i32; 3], now_ms: u32) {
         self.dev.poll(&mut [&mut self.hid, &mut self.port]);
         let link = self.reports.link();
         let delivered = self.hid.take_delivered();
         let hid = &self.hid;
         self.reports
-            .update(self.dev.state(), counts, delivered, |bytes| {
+            .update(self.dev.state(), counts, delivered, now_ms, |bytes| {
                 hid.push_raw_input(bytes)
             });
         if self.reports.link() != link {

@@ -161,11 +161,18 @@ fn configured(
     let mut mouse = Mouse::new(alloc).expect("identity fits");
     host.setup([0x00, 0x09, 1, 0, 0, 0, 0, 0]); // SET_CONFIGURATION 1
     for _ in 0..3 {
-        mouse.service([0; 3]);
+        mouse.service([0; 3], 0);
     }
     assert_eq!(mouse.reports().link(), imu_core::Link::Configured);
+    // The opening report (imu_app::opening), taken by the host at 0 ms; the quiet time is
+    // over by LATER.
+    assert_eq!(host.read(1).as_deref(), Some(&[0u8, 0, 0, 0][..]));
+    mouse.service([0; 3], 0);
     mouse
 }
+
+/// A time after the opening's quiet time [ms].
+const LATER: u32 = 1000;
 
 fn bus() -> (Host, &'static UsbBusAllocator<ScriptBus>) {
     let host = Host::default();
@@ -179,14 +186,14 @@ fn a_request_waits_in_the_inbox_and_the_next_stays_on_the_bus_until_then() {
     let mut mouse = configured(&host, alloc);
     host.send(CONFIG_OUT, &frame(1));
     host.send(CONFIG_OUT, &frame(2));
-    mouse.service([0; 3]);
-    mouse.service([0; 3]);
+    mouse.service([0; 3], LATER);
+    mouse.service([0; 3], LATER);
     assert_eq!(
         mouse.take_request().map(|(f, n)| (f[2], n)),
         Some((1, FRAME_LEN))
     );
     assert_eq!(mouse.take_request(), None, "the second is read only after");
-    mouse.service([0; 3]);
+    mouse.service([0; 3], LATER);
     assert_eq!(mouse.take_request().map(|(f, _)| f[2]), Some(2));
 }
 
@@ -204,7 +211,7 @@ fn responses_wait_for_a_busy_endpoint_and_go_before_stream_frames() {
     assert!(!mouse.push_stream_frame(&stream_frame()), "responses first");
     for want in [1, 2, 3] {
         assert_eq!(host.read(CONFIG_IN).map(|p| p[2]), Some(want));
-        mouse.service([0; 3]);
+        mouse.service([0; 3], LATER);
     }
     assert_eq!(host.read(CONFIG_IN), None, "the fourth was dropped");
     assert!(mouse.push_stream_frame(&stream_frame()));
@@ -220,24 +227,24 @@ fn responses_wait_for_a_busy_endpoint_and_go_before_stream_frames() {
 fn nothing_streams_to_a_host_that_is_not_listening_and_a_reset_empties_the_boxes() {
     let (host, alloc) = bus();
     let mut mouse = Mouse::new(alloc).expect("identity fits");
-    mouse.service([0; 3]);
+    mouse.service([0; 3], LATER);
     assert!(!mouse.push_stream_frame(&stream_frame()), "not configured");
     let mut mouse = {
         host.setup([0x00, 0x09, 1, 0, 0, 0, 0, 0]);
         for _ in 0..3 {
-            mouse.service([0; 3]);
+            mouse.service([0; 3], LATER);
         }
         mouse
     };
     host.send(CONFIG_OUT, &frame(1));
-    mouse.service([0; 3]);
+    mouse.service([0; 3], LATER);
     mouse.respond(frame(7));
     mouse.respond(frame(8));
     host.reset();
-    mouse.service([0; 3]);
+    mouse.service([0; 3], LATER);
     assert_eq!(mouse.take_request(), None, "the host that asked is gone");
     host.read(CONFIG_IN);
-    mouse.service([0; 3]);
+    mouse.service([0; 3], LATER);
     assert_eq!(
         host.read(CONFIG_IN),
         None,
@@ -260,7 +267,7 @@ fn a_request_through_the_real_mouse_is_answered_on_its_in_endpoint() {
     let mut mouse = configured(&host, alloc);
     // Two mouse reports, read by the host on EP1.
     for dx in [3, 2] {
-        mouse.service([dx, 0, 0]);
+        mouse.service([dx, 0, 0], LATER);
         host.read(1).expect("a mouse report");
     }
     let p = Profile::default();
@@ -269,7 +276,7 @@ fn a_request_through_the_real_mouse_is_answered_on_its_in_endpoint() {
     let (mut status, mut route, mut stream) = (Status::new(20), p.map, Stream::default());
     let mut serve = |mouse: &mut Mouse<'static, ScriptBus>, req: Request, tag: u8| {
         host.send(CONFIG_OUT, &req.encode(tag));
-        mouse.service([0; 3]);
+        mouse.service([0; 3], LATER);
         let mut r = Resources {
             mouse: &mut Exclusive(mouse),
             commands: &mut Exclusive(&mut commands),
@@ -286,7 +293,7 @@ fn a_request_through_the_real_mouse_is_answered_on_its_in_endpoint() {
     let Response::Counters(c) = r else {
         panic!("{r:?}")
     };
-    assert_eq!((tag, c.reports), (4, 2));
+    assert_eq!((tag, c.reports), (4, 3), "the opening report and the two");
     serve(&mut mouse, Request::StreamStart, 5);
     stream.push(&[[7, 8, 9]], 0);
     control::push_stream(&mut Exclusive(&mut mouse), &mut Exclusive(&mut stream));

@@ -116,7 +116,7 @@ fn logs_every_interval_key_debounced_and_led_shows_not_configured() {
     let (mut logs, mut events, mut lit_ms) = (vec![], vec![], 0u32);
     for ms in start + 1..=start + 12_000 {
         pressed.set((start + 100..start + 110).contains(&ms) || ms == start + 200);
-        mouse.service([0; 3]);
+        mouse.service([0; 3], ms);
         let tick = tick(&mut hk, ms, true, &mut tracker, &mut status, &mut mouse);
         if tick.log {
             logs.push(ms - start);
@@ -237,7 +237,7 @@ fn the_mouse_services_its_reports_with_its_devices_state() {
     // discarded, and a button change waits.
     let alloc = UsbBusAllocator::new(NoHost);
     let mut mouse = Mouse::new(&alloc).expect("identity fits");
-    mouse.service([10, -4, 7]);
+    mouse.service([10, -4, 7], 0);
     assert_eq!(mouse.reports().reporter().discarded(), (10, 4));
     assert!(!mouse.reports().pending());
     mouse.set_buttons(imu_core::hid::buttons::RIGHT);

@@ -100,6 +100,10 @@ impl MouseReport {
     }
 }
 
+/// [`Reporter`]'s record of the buttons last sent when they are to be sent again: no
+/// buttons value equals it (they are masked to [`buttons::ALL`]).
+const RESEND: u8 = 0xFF;
+
 /// Accumulated motion and buttons not yet delivered to the host.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Reporter {
@@ -181,6 +185,26 @@ impl Reporter {
         self.discarded
     }
 
+    /// A report of the held buttons alone, with no motion (the opening report after a new
+    /// configuration, `imu_app::opening`); accounted by [`Self::accepted`] like any other.
+    pub const fn buttons_only(&self) -> MouseReport {
+        MouseReport {
+            buttons: self.buttons,
+            x: 0,
+            y: 0,
+            wheel: 0,
+        }
+    }
+
+    /// The host is to be told the held buttons again with the next report, even if they
+    /// have not changed since the last one; nothing when none is held (a host that lost the
+    /// last report assumes none).
+    pub fn resend_buttons(&mut self) {
+        if self.buttons != 0 {
+            self.sent_buttons = RESEND;
+        }
+    }
+
     /// The next report to send, or `None` when there is no motion and no button change.
     pub fn pending(&self) -> Option<MouseReport> {
         if self.dx == 0 && self.dy == 0 && self.buttons == self.sent_buttons {
@@ -259,6 +283,29 @@ mod tests {
             (buttons::LEFT, buttons::RIGHT, buttons::MIDDLE, buttons::ALL),
             (1, 2, 4, 7)
         );
+    }
+
+    #[test]
+    fn held_buttons_alone_and_told_again_on_request() {
+        let mut r = Reporter::default();
+        r.set_buttons(buttons::RIGHT);
+        r.add_motion(5, 5);
+        let opening = r.buttons_only();
+        assert_eq!(
+            opening.to_bytes(),
+            [buttons::RIGHT, 0, 0, 0],
+            "no motion in it"
+        );
+        r.sent(&opening);
+        assert_eq!(r.undelivered(), (5, 5), "the motion is still owed");
+        r.add_motion(-5, -5);
+        assert_eq!(r.pending(), None, "nothing changed since");
+        r.resend_buttons();
+        assert_eq!(r.pending().map(|p| p.buttons), Some(buttons::RIGHT));
+        // With none held there is nothing to tell again.
+        let mut r = Reporter::default();
+        r.resend_buttons();
+        assert_eq!(r.pending(), None);
     }
 
     #[test]

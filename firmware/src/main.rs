@@ -265,7 +265,7 @@ mod app {
     fn usb(cx: usb::Context) {
         let mut s = cx.shared;
         let (mut mouse, mut stream, mut sampler) = (s.mouse, s.stream, s.sampler);
-        tasks::service_mouse(&mut mouse, &mut s.tracker, &mut s.route);
+        tasks::service_mouse(&mut mouse, &mut s.tracker, &mut s.route, &mut sampler);
         let mut r = Resources {
             mouse: &mut mouse,
             commands: &mut s.commands,

@@ -48,15 +48,18 @@ pub fn log_save(result: &Result<(), StoreError>) {
     }
 }
 
-/// Polls the USB stack and hands the mouse the tracker's fresh counts in screen order.
+/// Polls the USB stack and hands the mouse the tracker's fresh counts in screen order, at
+/// the time base's milliseconds.
 pub fn service_mouse(
     mouse: &mut impl Mutex<T = Mouse<'static, UsbBusType>>,
     tracker: &mut impl Mutex<T = Tracker>,
     route: &mut impl Mutex<T = AxisMap>,
+    sampler: &mut impl Mutex<T = Sampler>,
 ) {
     let map = route.lock(|r| *r);
     let counts = tracker.lock(Tracker::take_counts);
-    mouse.lock(|m| m.service(map.screen(counts)));
+    let now_ms = sampler.lock(Sampler::now_ms);
+    mouse.lock(|m| m.service(map.screen(counts), now_ms));
 }
 
 /// What only the board does for a request: a new rate retimes the sampling; a save goes to

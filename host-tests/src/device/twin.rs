@@ -247,10 +247,11 @@ fn listing() -> Listing {
     }
 }
 
-/// Polls the USB stack until `deadline`, every 250 us, and keeps the raw stream moving.
-fn serve_until(mouse: &mut Mouse<'_, UsbIpBus>, deadline: Instant, stream: &mut Stream) {
+/// Polls the USB stack until `deadline`, every 250 us, at the twin's `ms` [ms], and keeps
+/// the raw stream moving.
+fn serve_until(mouse: &mut Mouse<'_, UsbIpBus>, deadline: Instant, ms: u32, stream: &mut Stream) {
     loop {
-        mouse.service([0; 3]);
+        mouse.service([0; 3], ms);
         control::push_stream(&mut Exclusive(&mut *mouse), &mut Exclusive(&mut *stream));
         let now = Instant::now();
         if now >= deadline {
@@ -312,6 +313,7 @@ pub fn run(
         serve_until(
             &mut mouse,
             Instant::now() + Duration::from_millis(1),
+            0,
             &mut stream,
         );
     }
@@ -388,7 +390,7 @@ pub fn run(
         produced[0] += i64::from(dx);
         produced[1] += i64::from(dy);
         let before = mouse.reports().reporter().reports();
-        mouse.service(counts);
+        mouse.service(counts, ms);
         let mut r = Resources {
             mouse: &mut Exclusive(&mut mouse),
             commands: &mut Exclusive(&mut commands),
@@ -449,7 +451,7 @@ pub fn run(
         if Instant::now() > next + tick {
             late_ticks += 1;
         }
-        serve_until(&mut mouse, next, &mut stream);
+        serve_until(&mut mouse, next, ms, &mut stream);
         per_ms.push(mouse.reports().reporter().reports().wrapping_sub(before));
         ms += 1;
     }
