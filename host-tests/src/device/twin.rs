@@ -191,6 +191,9 @@ pub struct Summary {
     pub causes: Vec<(u32, &'static str)>,
     /// Sampling restarts (stalls or overruns) while suspended.
     pub restarts_suspended: u32,
+    /// Mouse reports counted in `sent` whose delivery USB/IP cannot confirm: the last one
+    /// before each disconnect, `[x, y]` (the host may have lost it with the connection).
+    pub unconfirmed: Vec<[i64; 2]>,
 }
 
 /// KEY of the twin: the scene's finger, or the operator's.
@@ -461,6 +464,7 @@ pub fn run(
         source: loaded.source,
         final_fs_hz: commands.running().config.fs_hz,
         stream_frames: stream.totals().0,
+        unconfirmed: monitor.unconfirmed(),
     };
     Ok(summary(
         input,
@@ -529,6 +533,8 @@ struct End {
     final_fs_hz: u32,
     /// Raw stream frames sent.
     stream_frames: u32,
+    /// The bus's unconfirmed IN packets (`UsbIpBus`'s monitor).
+    unconfirmed: Vec<(u8, Vec<u8>)>,
 }
 
 fn summary(
@@ -573,5 +579,11 @@ fn summary(
         wakes_ms: end.power.wakes.clone(),
         causes: end.power.causes.clone(),
         restarts_suspended: end.power.restarts,
+        unconfirmed: end
+            .unconfirmed
+            .iter()
+            .filter(|(ep, p)| *ep == imu_app::mouse::MOUSE_EP_IN & 0x7F && p.len() >= 3)
+            .map(|(_, p)| [i64::from(p[1] as i8), i64::from(p[2] as i8)])
+            .collect(),
     }
 }

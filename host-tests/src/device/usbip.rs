@@ -18,6 +18,11 @@
 //!   URB takes it, and an IN URB with nothing to send stays pending (a NAK).
 //! - Closing the connection is a bus reset: pending URBs are dropped and the device returns
 //!   to the Default state. USB/IP has no suspend, so the bus never reports one.
+//! - USB/IP has no handshake: an IN packet counts as delivered when its RET_SUBMIT is sent,
+//!   and the host confirms it only by submitting its next URB on the endpoint. The last
+//!   packet before a disconnect stays unconfirmed ([`Monitor::unconfirmed`]): the kernel's
+//!   `usbip detach` may drop a RET_SUBMIT still in the socket, a user-space host may have
+//!   read it (`kernel_check.py` saw the first, `twin_check.py` the second).
 //! - The device list shows the identity given to [`UsbIpBus::new`] (read from the app).
 //!
 //! Protocol: the Linux kernel's `Documentation/usb/usbip_protocol.rst` (OP_REQ_DEVLIST,
@@ -91,6 +96,8 @@ struct InEp {
     packet: Option<Vec<u8>>,
     urbs: VecDeque<Urb>,
     stalled: bool,
+    /// The last packet sent to the host, until it submits its next URB here.
+    unconfirmed: Option<Vec<u8>>,
 }
 
 #[derive(Debug, Default)]
@@ -118,6 +125,8 @@ struct Inner {
     control: Option<Control>,
     in_complete: u16,
     traffic: Traffic,
+    /// `(endpoint, packet)`: the last IN packet before each disconnect, never confirmed.
+    unconfirmed: Vec<(u8, Vec<u8>)>,
 }
 
 /// The USB/IP bus. One device, exported as bus id [`BUSID`].
@@ -154,6 +163,7 @@ impl UsbIpBus {
             control: None,
             in_complete: 0,
             traffic: Traffic::default(),
+            unconfirmed: Vec::new(),
         }))))
     }
 
@@ -171,6 +181,12 @@ impl Monitor {
     /// Traffic so far.
     pub fn traffic(&self) -> Traffic {
         lock(&self.0).traffic
+    }
+
+    /// `(endpoint, packet)`: the last IN packet sent before each disconnect, which the host
+    /// never confirmed by submitting its next URB (see the module docs).
+    pub fn unconfirmed(&self) -> Vec<(u8, Vec<u8>)> {
+        lock(&self.0).unconfirmed.clone()
     }
 
     /// Suspends (`true`) or resumes (`false`) the bus at the next poll, as a host's idle bus
@@ -236,6 +252,11 @@ impl Inner {
     fn disconnect(&mut self) {
         if self.conn.take().is_some() && self.attached {
             self.reset_pending = true;
+        }
+        for (i, e) in self.ins.iter_mut().enumerate() {
+            if let Some(p) = e.as_mut().and_then(|e| e.unconfirmed.take()) {
+                self.unconfirmed.push((i as u8, p));
+            }
         }
         self.attached = false;
         self.rx.clear();
@@ -442,6 +463,7 @@ impl Inner {
             if e.stalled {
                 return self.ret_submit(seqnum, EPIPE, &[], 0);
             }
+            e.unconfirmed = None;
             e.urbs.push_back(Urb { seqnum, len });
             self.complete_in(ep);
         } else {
@@ -468,6 +490,7 @@ impl Inner {
             return;
         };
         p.truncate(u.len as usize);
+        e.unconfirmed = Some(p.clone());
         self.in_complete |= 1 << ep;
         self.traffic.in_packets += 1;
         self.ret_submit(u.seqnum, 0, &p, 0);
