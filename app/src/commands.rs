@@ -201,11 +201,13 @@ impl Commands {
                 applied: false,
             });
         }
-        if let Err(e) = staged.validate() {
-            return Reply::error(error(e));
-        }
+        // The rate first: one the device cannot run also makes other settings fail (a 1 s
+        // calibration window at 7 Hz is too short), and the user set the rate, not those.
         if !rate_accepted(staged.config.fs_hz, self.clock_hz) {
             return Reply::error(ErrorCode::Unsupported(Key::FsHz));
+        }
+        if let Err(e) = staged.validate() {
+            return Reply::error(error(e));
         }
         let effect = self.apply(staged);
         Reply {

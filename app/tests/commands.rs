@@ -165,7 +165,7 @@ fn a_set_is_staged_over_frames_and_applied_as_a_whole() {
 
 #[test]
 fn a_refused_set_names_the_key_and_changes_nothing() {
-    let cases: [(&[(Key, f64)], ErrorCode); 5] = [
+    let cases: [(&[(Key, f64)], ErrorCode); 6] = [
         (&[(Key::AdcBits, 12.5)], ErrorCode::Value(Key::AdcBits)),
         (&[(Key::AdcBits, 1.0)], ErrorCode::Invalid(Key::AdcBits)),
         (
@@ -175,6 +175,9 @@ fn a_refused_set_names_the_key_and_changes_nothing() {
         // Valid for the core (1..=100 kHz) but not a rate the 96 MHz trigger makes.
         (&[(Key::FsHz, 7000.0)], ErrorCode::Unsupported(Key::FsHz)),
         (&[(Key::FsHz, 50.0)], ErrorCode::Unsupported(Key::FsHz)),
+        // Too low for the device and for a 1 s calibration window: the rate is named, not the
+        // window it makes too short.
+        (&[(Key::FsHz, 7.0)], ErrorCode::Unsupported(Key::FsHz)),
     ];
     for (pairs, want) in cases {
         let mut c = commands();

@@ -101,6 +101,11 @@ fn a_bad_argument_is_named_on_stderr_with_status_2() {
         ),
         (vec!["predict", "--fs", "0", "--t", "1"], "--fs 0"),
         (vec!["mouse", "--strokes", "0"], "--strokes 0"),
+        // Refused as an argument before the file is read (it does not exist).
+        (
+            vec!["replay", "/nonexistent/imu.csv", "--fs", "-1"],
+            "--fs -1",
+        ),
     ] {
         let out = output(&args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
@@ -135,4 +140,128 @@ fn json_output_is_json_alone() {
         assert_eq!(text(&out.stderr), "", "{args:?}");
     }
     std::fs::remove_file(file).ok();
+}
+
+#[test]
+fn device_arguments_are_refused_before_any_device_is_asked() {
+    // Nothing listens on port 9: a command that tried to connect would fail with status 1.
+    let dir = std::env::temp_dir();
+    let dir_arg = dir.to_string_lossy().into_owned();
+    for (args, named) in [
+        (
+            vec!["config", "set", "drift=maybe"],
+            "config set drift=maybe: must be on or off",
+        ),
+        (
+            vec!["config", "set", "scheme=rk4"],
+            "must be euler or trapezoid",
+        ),
+        (
+            vec!["config", "set", "cpi=3"],
+            "config set cpi=3: unknown key",
+        ),
+        (
+            vec![
+                "config",
+                "set",
+                "counts_per_inch=800",
+                "counts_per_inch=1600",
+            ],
+            "counts_per_inch is given twice",
+        ),
+        (
+            vec!["record", "--seconds", "1", "--out", &dir_arg],
+            "is a folder",
+        ),
+        (
+            vec![
+                "record",
+                "--seconds",
+                "1",
+                "--out",
+                "/nonexistent/imu/x.csv",
+            ],
+            "its folder /nonexistent/imu does not exist",
+        ),
+        (vec!["record", "--seconds", "-1"], "--seconds -1"),
+    ] {
+        let mut all = vec!["device", "--twin", "127.0.0.1:9"];
+        all.extend(&args);
+        let out = output(&all);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(text(&out.stdout), "", "{args:?}");
+        assert!(err.contains(named), "{args:?}: {err}");
+    }
+    assert!(
+        !std::path::Path::new("/nonexistent/imu").exists(),
+        "nothing created"
+    );
+}
+
+#[test]
+fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
+    let port = {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
+        l.local_addr().expect("address").port()
+    };
+    let addr = format!("127.0.0.1:{port}");
+    let mut twin = lab()
+        .args([
+            "twin",
+            "--scene",
+            "rest",
+            "--seconds",
+            "30",
+            "--addr",
+            &addr,
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the twin starts");
+    let device = |args: &[&str]| {
+        let mut all = vec!["device", "--twin", addr.as_str()];
+        all.extend(args);
+        output(&all)
+    };
+    // Wait for it to listen.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while device(&["info"]).status.code() != Some(0) {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the twin did not answer"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    }
+    for (cmd, what) in [("save", "saved"), ("recalibrate", "recalibrating")] {
+        let out = device(&["--json", cmd]);
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON alone");
+        assert_eq!(v["done"], what, "{cmd}");
+    }
+    // A rate the device cannot run is refused naming the rate (not the calibration window
+    // it would make too short), with status 2, and changes nothing.
+    let before = text(&device(&["config", "get"]).stdout);
+    let out = device(&["config", "set", "fs_hz=7"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("fs_hz"), "{}", text(&out.stderr));
+    assert_eq!(text(&device(&["config", "get"]).stdout), before);
+    // The scheme reads as the word `config set` takes.
+    assert!(
+        before
+            .lines()
+            .any(|l| l == "scheme=euler" || l == "scheme=trapezoid"),
+        "{before}"
+    );
+    twin.kill().expect("the twin stops");
+    twin.wait().expect("reaped");
+}
+
+#[test]
+fn a_twin_that_cannot_listen_says_so_and_never_that_it_waits() {
+    let out = output(&["twin", "--addr", "192.0.2.1:3240", "--seconds", "1"]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("cannot listen on 192.0.2.1:3240"), "{err}");
+    assert!(!err.contains("waiting for a host"), "{err}");
 }

@@ -84,46 +84,98 @@ pub enum ConfigOp {
     },
 }
 
-/// A key's value as a user reads it.
+/// The words `scheme` takes, by value.
+const SCHEMES: [&str; 2] = ["euler", "trapezoid"];
+
+/// A key's value as a user reads it (and writes it: `config set` takes it back).
 fn show(key: Key, v: f64) -> String {
     match key.kind() {
         Kind::Optional if v.is_nan() => "off".into(),
         Kind::Flag => (if v == 1.0 { "on" } else { "off" }).into(),
+        _ if key == Key::Scheme => SCHEMES
+            .get(v as usize)
+            .map_or_else(|| format!("{v}"), |w| (*w).into()),
         _ => format!("{v}"),
+    }
+}
+
+/// What a key's value must be, in words, for an error message.
+fn wanted(key: Key) -> &'static str {
+    match key.kind() {
+        Kind::Flag => "must be on or off",
+        Kind::Optional => "must be a finite number or off",
+        _ if key == Key::Scheme => "must be euler or trapezoid",
+        _ => "must be a finite number",
     }
 }
 
 /// `KEY=VALUE` parsed.
 ///
 /// # Errors
-/// [`Error::Arg`] naming the pair: no `=`, an unknown key, a value that is not a number
-/// (`off`/`on` where the key takes them).
+/// [`Error::Input`] (exit 2) naming the pair: no `=`, an unknown key, a value the key does
+/// not take (a number; `off`/`on` where the key takes them; `euler`/`trapezoid`).
 pub fn parse_pair(pair: &str) -> Result<(Key, f64), Error> {
+    let bad = |why: &str| Error::Input(format!("config set {pair}: {why}"));
     let (k, v) = pair
         .split_once('=')
-        .ok_or_else(|| Error::arg("config set", pair, "must be KEY=VALUE"))?;
+        .ok_or_else(|| bad("must be KEY=VALUE"))?;
     let key = Key::from_name(k.trim()).ok_or_else(|| {
         let names: Vec<&str> = Key::ALL.iter().map(|k| k.name()).collect();
-        Error::arg(
-            "config set",
-            pair,
-            format!("unknown key; keys: {}", names.join(", ")),
-        )
+        bad(&format!("unknown key; the keys: {}", names.join(", ")))
     })?;
     let v = v.trim();
-    let value = match (key.kind(), v) {
-        (Kind::Optional, "off") => f64::NAN,
-        (Kind::Flag, "off") => 0.0,
-        (Kind::Flag, "on") => 1.0,
-        (Kind::Integer { .. }, _) if key == Key::Scheme && v == "euler" => 0.0,
-        (Kind::Integer { .. }, _) if key == Key::Scheme && v == "trapezoid" => 1.0,
-        _ => v
-            .parse::<f64>()
-            .ok()
-            .filter(|x| x.is_finite())
-            .ok_or_else(|| Error::arg("config set", pair, "the value must be a finite number"))?,
+    let word = match key.kind() {
+        Kind::Optional if v == "off" => Some(f64::NAN),
+        Kind::Flag => ["off", "on"].iter().position(|w| *w == v).map(|i| i as f64),
+        _ if key == Key::Scheme => SCHEMES.iter().position(|w| *w == v).map(|i| i as f64),
+        _ => None,
     };
+    let number = || v.parse::<f64>().ok().filter(|x| x.is_finite());
+    let value = word.or_else(number).ok_or_else(|| bad(wanted(key)))?;
     Ok((key, value))
+}
+
+/// Every pair of one `config set` parsed; a key given twice is refused (which one was
+/// meant?).
+///
+/// # Errors
+/// [`parse_pair`]'s, or [`Error::Input`] naming the repeated key.
+pub fn parse_pairs(pairs: &[String]) -> Result<Vec<(Key, f64)>, Error> {
+    let parsed = pairs
+        .iter()
+        .map(|p| parse_pair(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    for (i, (k, _)) in parsed.iter().enumerate() {
+        if parsed[..i].iter().any(|(j, _)| j == k) {
+            return Err(Error::Input(format!(
+                "config set: {k} is given twice; give each key once"
+            )));
+        }
+    }
+    Ok(parsed)
+}
+
+/// A recording's file checked before the device is asked for anything: not a folder, and
+/// its folder exists (a typo in a path is not created silently).
+///
+/// # Errors
+/// [`Error::Arg`] naming `--out`.
+fn writable(out: &std::path::Path) -> Result<(), Error> {
+    if out.is_dir() {
+        return Err(Error::arg(
+            "out",
+            out.display(),
+            "is a folder; give a file name",
+        ));
+    }
+    match out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) if !dir.is_dir() => Err(Error::arg(
+            "out",
+            out.display(),
+            format!("its folder {} does not exist", dir.display()),
+        )),
+        _ => Ok(()),
+    }
 }
 
 #[derive(Serialize)]
@@ -249,9 +301,6 @@ fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &PathBuf, json: bool) -
         fs,
         samples: rec.samples.clone(),
     });
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| Error::file(dir, e))?;
-    }
     std::fs::write(out, text).map_err(|e| Error::file(out, e))?;
     summary(&rec, fs, out, json)
 }
@@ -312,29 +361,62 @@ fn dispatch<L: Link>(mut c: Client<L>, a: &Args) -> Outcome {
         What::Config {
             op: ConfigOp::Set { pairs },
         } => {
-            let pairs = pairs
-                .iter()
-                .map(|p| parse_pair(p))
-                .collect::<Result<Vec<_>, _>>()?;
-            c.set(&pairs)?;
+            c.set(&parse_pairs(pairs)?)?;
             config_get(&mut c, a.json)
         }
-        What::Save => c.save().map(|()| "saved".into()).map_err(Into::into),
-        What::Defaults => c
-            .defaults()
-            .map(|()| "defaults running and saved".into())
-            .map_err(Into::into),
-        What::Recalibrate => c
-            .recalibrate()
-            .map(|()| "recalibrating: keep the device still".into())
-            .map_err(Into::into),
+        What::Save => {
+            c.save()?;
+            done(a.json, "saved", "saved")
+        }
+        What::Defaults => {
+            c.defaults()?;
+            done(a.json, "defaults", "defaults running and saved")
+        }
+        What::Recalibrate => {
+            c.recalibrate()?;
+            done(
+                a.json,
+                "recalibrating",
+                "recalibrating: keep the device still",
+            )
+        }
         What::Record { seconds, out } => record(&mut c, *seconds, out, a.json),
+    }
+}
+
+/// A command that only acknowledges: `{"done": WHAT}` with `--json`, else `text`.
+fn done(json: bool, what: &str, text: &str) -> Outcome {
+    if json {
+        return super::json(&serde_json::json!({ "done": what }));
+    }
+    Ok(text.into())
+}
+
+/// The arguments checked before the device is asked for anything.
+fn check_args(a: &Args) -> Result<(), Error> {
+    positive("timeout", a.timeout)?;
+    match &a.what {
+        What::Config {
+            op: ConfigOp::Set { pairs },
+        } => parse_pairs(pairs).map(|_| ()),
+        What::Record { seconds, out } => {
+            positive("seconds", *seconds)?;
+            writable(out)
+        }
+        _ => Ok(()),
     }
 }
 
 impl From<ClientError> for Error {
     fn from(e: ClientError) -> Self {
-        Error::Run(e.to_string())
+        use imu_core::protocol::ErrorCode;
+        match e {
+            // A value the device refuses is a bad argument (exit 2), named by its key.
+            ClientError::Refused(
+                ErrorCode::Value(_) | ErrorCode::Invalid(_) | ErrorCode::Unsupported(_),
+            ) => Error::Input(e.to_string()),
+            _ => Error::Run(e.to_string()),
+        }
     }
 }
 
@@ -343,7 +425,8 @@ impl From<ClientError> for Error {
 /// # Errors
 /// A bad argument, no device, a refusal (naming the key), a recording with gaps.
 pub fn run(a: &Args) -> Outcome {
-    let timeout = Duration::from_secs_f64(positive("timeout", a.timeout)?);
+    check_args(a)?;
+    let timeout = Duration::from_secs_f64(a.timeout);
     match a.twin {
         Some(addr) => {
             let host = UsbIpHost::connect(addr, BUSID, timeout).map_err(ClientError::from)?;
@@ -389,5 +472,38 @@ mod tests {
         assert_eq!(show(Key::LowpassFcHz, f64::NAN), "off");
         assert_eq!(show(Key::Drift, 1.0), "on");
         assert_eq!(show(Key::FsHz, 3000.0), "3000");
+        assert_eq!(show(Key::Scheme, 0.0), "euler");
+        assert_eq!(show(Key::Scheme, 1.0), "trapezoid");
+        // Every key's shown value reads back as itself.
+        for (k, v) in [
+            (Key::Scheme, 1.0),
+            (Key::Drift, 0.0),
+            (Key::CountsPerInch, 800.0),
+        ] {
+            assert_eq!(
+                parse_pair(&format!("{k}={}", show(k, v))).ok(),
+                Some((k, v))
+            );
+        }
+    }
+
+    #[test]
+    fn refusals_say_what_the_key_takes() {
+        for (pair, want) in [
+            ("drift=maybe", "must be on or off"),
+            ("scheme=rk4", "must be euler or trapezoid"),
+            ("lowpass_fc_hz=low", "a finite number or off"),
+            ("fs_hz=off", "must be a finite number"),
+        ] {
+            let e = parse_pair(pair).expect_err(pair).to_string();
+            assert!(e.contains(want) && e.starts_with("config set "), "{e}");
+            assert!(!e.starts_with("--"), "{e}");
+        }
+        let twice = [
+            "counts_per_inch=800".to_string(),
+            "counts_per_inch=1600".to_string(),
+        ];
+        let e = parse_pairs(&twice).expect_err("twice").to_string();
+        assert!(e.contains("counts_per_inch is given twice"), "{e}");
     }
 }

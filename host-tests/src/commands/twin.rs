@@ -114,10 +114,6 @@ pub fn run(a: &Args) -> Outcome {
         None => FileFlash::blank(),
     };
     let operator = operator();
-    eprintln!(
-        "twin: USB/IP device on {} (bus id 1-1); waiting for a host",
-        a.addr
-    );
     let settings = twin::Settings {
         addr: a.addr,
         wait_host_s: a.wait_host,
@@ -131,7 +127,8 @@ pub fn run(a: &Args) -> Outcome {
         "twin: {:.1} s at {} Hz ({} at the end; profile: {}), {} reports (peak {} per s), \
          {} URBs, {} stalls, {} stream frames\n\
          counts (x, y): produced {:?}, sent {:?}, discarded {:?}, owed {:?}; accounted: {}\n\
-         late housekeeping ticks: {}",
+         housekeeping ticks that started over 1 ms late (this computer's scheduler, not the \
+         device): {}",
         s.scene_s,
         s.fs_hz,
         s.final_fs_hz,

@@ -292,6 +292,10 @@ pub fn run(
         addr: s.addr,
         source,
     })?;
+    eprintln!(
+        "twin: USB/IP device on {} (bus id 1-1); waiting for a host",
+        s.addr
+    );
     let monitor = bus.monitor();
     let bus = UsbBusAllocator::new(bus);
     let mut mouse = Mouse::new(&bus).map_err(|e| TwinError::Device(format!("{e:?}")))?;
@@ -320,6 +324,7 @@ pub fn run(
             &mut stream,
         );
     }
+    eprintln!("twin: a host configured the device; playing the scene");
 
     let probe_arr = CLOCK_HZ / PROBE_HZ - 1;
     let new_sampling = |fs_hz| Sampling::new(CLOCK_HZ, fs_hz, probe_arr, STALL_BLOCKS);
@@ -571,7 +576,14 @@ fn summary(
         late_ticks,
         accounted: sent.0 + discarded.0 + owed.0 + flight.0 == produced[0]
             && sent.1 + discarded.1 + owed.1 + flight.1 == produced[1],
-        profile_source: format!("{:?}", end.source),
+        profile_source: match end.source {
+            Source::Defaults => "defaults",
+            Source::Stored => "stored",
+            Source::Corrupt => "defaults (the store was unreadable)",
+            Source::Invalid => "defaults (the stored profile no longer validates)",
+            Source::Changed => "changed",
+        }
+        .into(),
         final_fs_hz: end.final_fs_hz,
         stream_frames: end.stream_frames,
         suspends_ms: end.power.suspends.clone(),

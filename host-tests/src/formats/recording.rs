@@ -199,7 +199,10 @@ pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingErro
             "no sampling rate: give --fs, an `fs,<Hz>` line, or a `t` column",
         );
     };
-    if let Some(&(other, v)) = given.iter().find(|(_, v)| (v - fs).abs() > 1e-6 * fs) {
+    if let Some(&(other, v)) = given[1..]
+        .iter()
+        .find(|(_, v)| (v - fs).abs() > 1e-6 * fs.abs())
+    {
         return err(0, format!("{name} says {fs} Hz but {other} says {v} Hz"));
     }
     let whole = fs.round();
@@ -264,6 +267,8 @@ mod tests {
         );
         fails("fs,-3\n", None, 1, "must be a number > 0");
         fails("n,x,y,z\n0,1,2,3\n", Some(99.5), 0, "whole number of Hz");
+        // A negative rate is refused as a rate, not as a disagreement with itself.
+        fails("n,x,y,z\n0,1,2,3\n", Some(-1.0), 0, "sampling rate -1 Hz");
     }
 
     #[test]
