@@ -181,6 +181,36 @@ fn a_recording_is_the_scene_sample_for_sample() {
 }
 
 #[test]
+fn a_recording_after_an_abandoned_stream_starts_afresh() {
+    // A recording interrupted on the host (Ctrl-C) leaves the device streaming; the next
+    // `record` must not count the old stream's frames as missing ones of its own.
+    use imu_core::protocol::Request;
+    let flash = temp_flash("abandoned");
+    let (addr, twin) = start_twin(3263, &flash, 5.0);
+    let mut c = connect(addr);
+    c.request(&Request::StreamStart).expect("started");
+    std::thread::sleep(Duration::from_millis(300));
+    let rec = c
+        .record(3000, |_| {})
+        .expect("record after an abandoned stream");
+    drop(c);
+    twin.join().expect("twin thread");
+    assert_eq!(
+        (rec.missing_frames, rec.lost()),
+        (0, 0),
+        "gaps: {:?}",
+        rec.gaps
+    );
+    let s0 = rec.samples[0];
+    let start = usize::from(s0[0]) + (usize::from(s0[1]) << 12);
+    assert_eq!(
+        rec.samples,
+        &scene(5.0).codes[start..start + rec.samples.len()]
+    );
+    let _ = std::fs::remove_file(&flash);
+}
+
+#[test]
 fn a_written_recording_reads_back_unchanged() {
     use host_tests::formats::recording::{parse, write, Recording};
     let rec = Recording {

@@ -259,13 +259,21 @@ impl<L: Link> Client<L> {
         samples: usize,
         mut progress: impl FnMut(usize),
     ) -> Result<Recorded, ClientError> {
+        // A stream left running (a recording interrupted on this host, which never stopped
+        // it) is stopped first; its frames still on the way are told apart by their numbers:
+        // the device numbers a new stream's frames from 0, so a first frame numbered
+        // FIRST_FRAMES or more is the old stream's (one that ran at least 0.2 s at 300 frames
+        // a second), and one below it is the new stream's, the frames before it missing.
+        self.request(&Request::StreamStop)?;
         self.stream.clear();
         self.done(Request::StreamStart)?;
         let mut rec = Recorded::default();
         let mut next_seq: Option<u16> = None;
         let mut take = |rec: &mut Recorded, f: StreamFrame| {
-            if let Some(want) = next_seq {
-                rec.missing_frames += u32::from(f.seq.wrapping_sub(want));
+            match next_seq {
+                None if f.seq >= FIRST_FRAMES => return, // the old stream's
+                None => rec.missing_frames += u32::from(f.seq),
+                Some(want) => rec.missing_frames += u32::from(f.seq.wrapping_sub(want)),
             }
             next_seq = Some(f.seq.wrapping_add(1));
             rec.frames += 1;
@@ -298,6 +306,9 @@ impl<L: Link> Client<L> {
         Ok(rec)
     }
 }
+
+/// A new stream's first frame is numbered below this (see [`Client::record`]).
+const FIRST_FRAMES: u16 = 64;
 
 fn answer(e: &dyn std::fmt::Debug) -> ClientError {
     ClientError::Answer(format!("{e:?}"))
