@@ -265,3 +265,52 @@ fn a_twin_that_cannot_listen_says_so_and_never_that_it_waits() {
     assert!(err.contains("cannot listen on 192.0.2.1:3240"), "{err}");
     assert!(!err.contains("waiting for a host"), "{err}");
 }
+
+#[test]
+fn drift_says_why_there_is_no_z_score_and_refuses_a_time_under_a_sample() {
+    // The rest recording's z column never changes: no noise the ADC resolves.
+    let file = rest_recording("drift");
+    let f = file.to_str().expect("utf-8 path");
+    let common = [
+        "drift",
+        f,
+        "--columns",
+        "x,y,z",
+        "--scale",
+        "0.01",
+        "--calibrate-s",
+        "0.1",
+    ];
+    let out = output(
+        &[
+            &common[..],
+            &["--t", "0.5", "--out", "target/lab/cli-drift"],
+        ]
+        .concat(),
+    );
+    let table = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(!table.contains("inf") && !table.contains("NaN"), "{table}");
+    assert!(
+        table.contains("n/a") && table.contains("the axis never moved"),
+        "{table}"
+    );
+    assert!(table.contains("fewer than 10 segments"), "{table}");
+    let out = output(
+        &[
+            &common[..],
+            &["--t", "0.5", "--json", "--out", "target/lab/cli-drift"],
+        ]
+        .concat(),
+    );
+    let rows: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let z_axis = rows["rows"]
+        .as_array()
+        .and_then(|r| r.iter().find(|row| row["axis"] == "z"))
+        .expect("a z row");
+    assert!(z_axis["z"].is_null(), "{z_axis}");
+    let out = output(&[&common[..], &["--t", "1e-9"]].concat());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("shorter than one sample"));
+    let _ = std::fs::remove_file(&file);
+}

@@ -40,9 +40,14 @@ pub struct Row {
     pub calibration_m: f64,
     /// Its bias-instability part [m].
     pub instability_m: f64,
-    /// z-score of the prediction (normal approximation: rough with few segments).
-    pub z: f64,
+    /// z-score of the prediction (normal approximation: rough with few segments); `None`
+    /// where there is none to take: an axis that never moved (its codes constant, or railed:
+    /// no noise the ADC resolves, so the prediction is 0).
+    pub z: Option<f64>,
 }
+
+/// Fewer segments than this give an interval too wide to judge a law by (the table says so).
+pub const FEW_SEGMENTS: usize = 10;
 
 /// Runs the experiment on counts `raw` (one vector per axis) at `fs` with `scale`
 /// [m/s^2 per count].
@@ -62,6 +67,12 @@ pub fn experiment(
     if (fs - fs_hz).abs() > 1e-9 * fs {
         return Err(format!(
             "sampling rate {fs} Hz: the core needs a whole number of Hz"
+        ));
+    }
+    if let Some(t) = ts.iter().find(|&&t| (t * fs).round() < 1.0) {
+        return Err(format!(
+            "--t {t}: shorter than one sample at {fs} Hz ({} s)",
+            1.0 / fs
         ));
     }
     let t_max = ts.iter().copied().fold(0.0, f64::max);
@@ -140,7 +151,7 @@ pub fn experiment(
                 white_m: white,
                 calibration_m: calibration,
                 instability_m: instability,
-                z: ms.z(predicted),
+                z: Some(ms.z(predicted)).filter(|z| z.is_finite()),
             });
         }
     }
@@ -163,12 +174,19 @@ pub fn table(rows: &[Row]) -> String {
         "z"
     );
     for r in rows {
+        let z = r.z.map_or_else(|| "n/a".into(), |z| format!("{z:+.2}"));
         out += &format!(
-            "{:<6} {:>7} {:>5} {:>11.3e} [{:>9.3e}, {:>9.3e}] {:>11.3e} {:>10.2e} {:>10.2e} {:>10.2e} {:>+7.2}\n",
-            r.axis, r.t_s, r.segments, r.measured_m, r.ci_low_m, r.ci_high_m, r.predicted_m, r.white_m, r.calibration_m, r.instability_m, r.z
+            "{:<6} {:>7} {:>5} {:>11.3e} [{:>9.3e}, {:>9.3e}] {:>11.3e} {:>10.2e} {:>10.2e} {:>10.2e} {:>7}\n",
+            r.axis, r.t_s, r.segments, r.measured_m, r.ci_low_m, r.ci_high_m, r.predicted_m, r.white_m, r.calibration_m, r.instability_m, z
         );
     }
     out += "RMS position error [m] of pure double integration after calibration, over independent segments.\n";
+    if rows.iter().any(|r| r.z.is_none()) {
+        out += "z n/a: the axis never moved (constant or railed codes: no noise the ADC resolves, so nothing to predict).\n";
+    }
+    if rows.iter().any(|r| r.segments < FEW_SEGMENTS) {
+        out += &format!("Rows from fewer than {FEW_SEGMENTS} segments: their interval is wide and their z rough; record longer to judge a law.\n");
+    }
     out
 }
 
