@@ -16,9 +16,9 @@
 //!   Back to Stop at once, unless the probe found motion that `Power` would signal now
 //!   ([`imu_core::Power::motion_pending`]).
 //!
-//! Any other wake (an interrupt that was already pending, so the core never stopped; with a
-//! debugger attached, SysTick every millisecond) restores the clocks and lets that interrupt
-//! run. The board stops only when nothing needs its clocks ([`may_stop`]): suspended, the
+//! Any other wake (an interrupt that was already pending, so the core never stopped)
+//! restores the clocks and lets that interrupt run (the board keeps SysTick's interrupt off
+//! through an episode, or its ticks would end the Stops). The board stops only when nothing needs its clocks ([`may_stop`]): suspended, the
 //! USB core still reading the bus suspended, no remote wake-up being signalled (the OTG core
 //! drives it from the 48 MHz clock), KEY released, no motion pending. Every rule here is a
 //! state, none a time constant: the board is awake exactly as long as something needs it.

@@ -25,10 +25,11 @@
 //!   bounded by [`board::RESTORE_SPINS`]), checks RCC_CFGR and RCC_PLLCFGR against their
 //!   values at boot (after `check_clocks` passed), and only then restarts the PHY clock.
 //! - The debugger: with one attached at boot, DBGMCU.DBG_STOP keeps the debug port alive
-//!   in Stop (at a Stop current far above the data sheet's, and SysTick then ends every Stop
-//!   within a millisecond); without one, a real Stop.
+//!   in Stop (at a Stop current far above the data sheet's; SysTick's interrupt is off
+//!   through each episode, so it does not end the Stops); without one, a real Stop.
 //!
-//! Only a board can show the current and the wake timing: see README, "Suspend current".
+//! Only a board can show the current and the wake timing: see docs/device.md, "Suspend in
+//! Stop mode, and its current".
 
 use cortex_m::peripheral::{NVIC, SCB};
 use imu_app::sleep::{StopMode, Wakes};
@@ -197,6 +198,7 @@ impl Stop {
             self.rtc
                 .enable_wakeup(fugit::MicrosDurationU64::millis(u64::from(board::PROBE_MS)));
             self.mask(false);
+            systick_interrupt(false);
             self.armed = true;
         }
         phy_clock_stopped(true);
@@ -222,6 +224,7 @@ impl Stop {
     fn disarm(&mut self) {
         self.mask(true);
         self.clear(&LINES);
+        systick_interrupt(true);
         self.armed = false;
     }
 
@@ -269,6 +272,29 @@ pub fn bus_suspended() -> bool {
     dev.dsts().read().suspsts().bit_is_set()
         && ints.wkupint().bit_is_clear()
         && ints.usbrst().bit_is_clear()
+}
+
+/// Lets SysTick raise its interrupt, or not (SYST_CSR.TICKINT). Off through an episode:
+/// SysTick counts in each awake probe (and in Stop with a debugger's DBG_STOP), and its
+/// pending interrupt would end the next Stop at once and, since every episode restarts the
+/// RTC's period, keep the probe from ever running. The monotonic then misses a tick or two
+/// of a suspend, which no deadline of a suspended device depends on (housekeeping's time is
+/// TIM5's, credited for the Stop).
+#[allow(unsafe_code)]
+fn systick_interrupt(on: bool) {
+    const TICKINT: u32 = 1 << 1;
+    // SAFETY: rtic-monotonics programs SYST once at boot and then only reads its counter;
+    // this flips one bit of the control register with interrupts masked. The pending state
+    // latched meanwhile is cleared, so the episode's first Stop does not end at once.
+    unsafe {
+        let syst = &*cortex_m::peripheral::SYST::PTR;
+        let csr = syst.csr.read();
+        syst.csr
+            .write(if on { csr | TICKINT } else { csr & !TICKINT });
+    }
+    if !on {
+        SCB::clear_pendst();
+    }
 }
 
 /// `wfi` with BASEPRI lowered to 0 for it: the episode runs inside RTIC locks, and a pending

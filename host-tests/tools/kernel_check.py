@@ -35,6 +35,7 @@ import os
 import queue
 import re
 import shutil
+import signal
 import socket
 import struct
 import subprocess
@@ -473,7 +474,18 @@ def codes(csv_text):
     return rows
 
 
+class Stopped(Exception):
+    """SIGTERM or SIGINT: the check stops, ending what it started."""
+
+
+def on_signal(signum, _frame):
+    raise Stopped(f"stopped by signal {signum}")
+
+
 def main():
+    # A CI cancel, `kill` or `timeout` sends SIGTERM: end QEMU and the twin as on any failure.
+    signal.signal(signal.SIGTERM, on_signal)
+    signal.signal(signal.SIGINT, on_signal)
     lab, work = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     os.makedirs(work, exist_ok=True)
     t_start = time.monotonic()
@@ -547,12 +559,14 @@ def main():
               f"the configuration interface has a hidraw node: {out}")
         rc, out = guest.sh("lab device --json info")
         info = parsed(out) if rc == 0 else {}
-        check("fs_hz" in info, f"lab device info in the guest: {out[-1:]}")
+        check("fs_hz" in info, f"lab device info in the guest: firmware {info.get('firmware')}, "
+              f"{info.get('fs_hz')} Hz, profile {info.get('profile')!r}")
         rc_set, out = guest.sh("lab device config set counts_per_inch=800")
         rc_get, after = guest.sh("lab device --json config get")
         after = parsed(after)
         check(rc_set == 0 and after.get("counts_per_inch") == 800,
-              f"config set counts_per_inch=800, read back by config get: {out[-1:]}")
+              f"config set counts_per_inch=800, read back by config get: "
+              f"{after.get('counts_per_inch')}")
         rc_bad, out = guest.sh("lab device config set fs_hz=7")
         rc_get, again = guest.sh("lab device --json config get")
         check(rc_bad != 0 and parsed(again) == after,
@@ -570,7 +584,8 @@ def main():
         ev1, ev2 = guest.file("/tmp/ev1.bin"), guest.file("/tmp/ev2.bin")
         usbmon = (guest.file("/tmp/usbmon.txt") or b"").decode(errors="replace")
         diagnostics["usbmon"] = usbmon
-    except (OSError, RuntimeError, TimeoutError, ValueError, subprocess.TimeoutExpired) as e:
+    except (OSError, RuntimeError, TimeoutError, ValueError, subprocess.TimeoutExpired,
+            Stopped) as e:
         say(f"FAIL: {e}")
         say("the guest's console, last 40 lines:")
         for l in open(os.path.join(work, "console.log")).read().splitlines()[-40:]:
@@ -652,4 +667,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except Stopped as stopped:
+        sys.exit(f"kernel_check: {stopped}")
