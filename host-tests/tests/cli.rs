@@ -101,6 +101,15 @@ fn a_bad_argument_is_named_on_stderr_with_status_2() {
         ),
         (vec!["predict", "--fs", "0", "--t", "1"], "--fs 0"),
         (vec!["mouse", "--strokes", "0"], "--strokes 0"),
+        (
+            vec!["simulate", "--scene", "adxl335-rest", "--seconds", "1e9"],
+            "--seconds 1e9: at most 3600 s",
+        ),
+        // Quoted as given, not as 301 digits.
+        (
+            vec!["predict", "--fs", "1e300", "--t", "1", "--sigma-d", "1e-3"],
+            "--t 1 at --fs 1e300: N = 1e300 samples",
+        ),
         // Refused as an argument before the file is read (it does not exist).
         (
             vec!["replay", "/nonexistent/imu.csv", "--fs", "-1"],

@@ -118,7 +118,11 @@ pub fn positive(name: &'static str, v: f64) -> Result<f64, Error> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        Err(Error::arg(name, v, "must be a finite number > 0"))
+        Err(Error::arg(
+            name,
+            crate::formats::number::Num(v),
+            "must be a finite number > 0",
+        ))
     }
 }
 

@@ -9,6 +9,9 @@ use super::{positive, Error, Outcome};
 /// One example, for `cargo lab` alone.
 pub const EXAMPLE: &str = "cargo lab simulate --scene adxl335-stroke --seconds 3";
 
+/// The longest scene [s]: an hour at 3 kHz is 32 M codes, 65 MB.
+pub const MAX_SECONDS: f64 = 3600.0;
+
 /// `cargo lab simulate`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -48,6 +51,13 @@ pub fn run(a: &Args) -> Outcome {
         ));
     };
     let seconds = positive("seconds", a.seconds)?;
+    if seconds > MAX_SECONDS {
+        return Err(Error::arg(
+            "seconds",
+            crate::formats::number::Num(seconds),
+            format!("at most {MAX_SECONDS} s: the scene is held in memory (3 axes at its rate)"),
+        ));
+    }
     let every = positive("every", a.every)?;
     let config = track::scene_config(sc);
     let samples = sc.three_axes(seconds, a.seed);

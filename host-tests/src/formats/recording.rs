@@ -93,6 +93,12 @@ pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingErro
         let Some(clk) = clock else {
             if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") {
                 match fields[1].parse::<f64>() {
+                    Ok(v) if fs_line.is_some_and(|f| f != v) => {
+                        return err(
+                            line,
+                            format!("a second `fs` line says {v} Hz: which rate is it?"),
+                        )
+                    }
                     Ok(v) if v.is_finite() && v > 0.0 => fs_line = Some(v),
                     _ => {
                         return err(
@@ -267,6 +273,12 @@ mod tests {
         );
         fails("fs,-3\n", None, 1, "must be a number > 0");
         fails("n,x,y,z\n0,1,2,3\n", Some(99.5), 0, "whole number of Hz");
+        fails(
+            "fs,100\nfs,200\nn,x,y,z\n0,1,2,3\n",
+            None,
+            2,
+            "a second `fs` line",
+        );
         // A negative rate is refused as a rate, not as a disagreement with itself.
         fails("n,x,y,z\n0,1,2,3\n", Some(-1.0), 0, "sampling rate -1 Hz");
     }

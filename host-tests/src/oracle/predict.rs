@@ -1,6 +1,7 @@
 //! `cargo lab predict`: the error-budget predictor. For each duration `t`, the RMS position
 //! error that each of the paper's laws (and the exact finite-N results) predicts.
 
+use crate::formats::number::Num;
 use serde::Serialize;
 
 use crate::oracle::reference as r;
@@ -38,7 +39,7 @@ pub enum PredictError {
     #[error("--t {0}: a duration must be a finite number > 0 s")]
     Duration(f64),
     /// `t * fs` is not a whole number.
-    #[error("--t {t} at --fs {fs}: N = t * fs = {n} is not a whole number of samples")]
+    #[error("--t {} at --fs {}: N = t * fs = {} is not a whole number of samples", Num(*t), Num(*fs), Num(*n))]
     NotWhole {
         /// The duration [s].
         t: f64,
@@ -48,7 +49,7 @@ pub enum PredictError {
         n: f64,
     },
     /// `t * fs` above [`N_MAX`].
-    #[error("--t {t} at --fs {fs}: N = {n} samples is above the supported 1e12")]
+    #[error("--t {} at --fs {}: N = {} samples is above the supported 1e12", Num(*t), Num(*fs), Num(*n))]
     TooLong {
         /// The duration [s].
         t: f64,
