@@ -323,3 +323,13 @@ fn drift_says_why_there_is_no_z_score_and_refuses_a_time_under_a_sample() {
     assert!(text(&out.stderr).contains("shorter than one sample"));
     let _ = std::fs::remove_file(&file);
 }
+
+#[test]
+fn the_lab_says_its_version() {
+    let out = output(&["--version"]);
+    assert_eq!(out.status.code(), Some(0));
+    assert_eq!(
+        text(&out.stdout).trim(),
+        format!("lab {}", env!("CARGO_PKG_VERSION"))
+    );
+}

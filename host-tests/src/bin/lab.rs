@@ -11,6 +11,7 @@ use host_tests::commands::{self as cmd, Error};
 #[derive(Parser)]
 #[command(
     name = "lab",
+    version,
     about = "imu-mouse lab: inertial position error, predicted and measured"
 )]
 struct Cli {
