@@ -211,6 +211,41 @@ fn a_recording_after_an_abandoned_stream_starts_afresh() {
 }
 
 #[test]
+fn a_scene_plays_in_its_own_time_on_a_device_at_another_rate() {
+    // The stored profile runs 6 kHz; the scene was made at 3 kHz: it must last its 2 s,
+    // not 1 s (each scene sample is played twice), and the recording shows each sample twice.
+    let flash = temp_flash("rate");
+    let (addr, twin) = start_twin(3264, &flash, 3.0);
+    let mut c = connect(addr);
+    c.set(&[(Key::FsHz, 6000.0)]).expect("6 kHz");
+    c.save().expect("save");
+    drop(c);
+    twin.join().expect("twin thread");
+    let (addr, twin) = start_twin(3265, &flash, 2.0);
+    let mut c = connect(addr);
+    let t0 = Instant::now();
+    let rec = c.record(600, |_| {}).expect("record");
+    drop(c);
+    let summary = twin.join().expect("twin thread");
+    let wall = t0.elapsed().as_secs_f64();
+    assert_eq!((summary.fs_hz, summary.final_fs_hz), (3000, 6000));
+    assert!((summary.scene_s - 2.0).abs() < 1e-3, "{}", summary.scene_s);
+    assert!(wall > 1.9, "the scene played in {wall} s");
+    // Runs of equal samples (the scene's are unique): two long each, but at the ends.
+    let mut runs = vec![1usize];
+    for w in rec.samples.windows(2) {
+        if w[0] == w[1] {
+            *runs.last_mut().expect("a run") += 1;
+        } else {
+            runs.push(1);
+        }
+    }
+    let inner = &runs[1..runs.len() - 1];
+    assert!(inner.iter().all(|&r| r == 2), "runs {inner:?}");
+    let _ = std::fs::remove_file(&flash);
+}
+
+#[test]
 fn a_written_recording_reads_back_unchanged() {
     use host_tests::formats::recording::{parse, write, Recording};
     let rec = Recording {

@@ -8,6 +8,7 @@ changed); an unknown key (exit 2); save; record 2 s (the file reads back through
 `lab allan`); recalibrate. Restarts the twin with the flash kept: the saved settings are
 there; defaults; another restart: the defaults are stored. Exits non-zero on any mismatch.
 """
+import atexit
 import json
 import os
 import subprocess
@@ -35,10 +36,25 @@ def config():
     return json.loads(device("--json", "config", "get").stdout)
 
 
+running = []
+
+
+def stop_all():
+    """Every twin this check started, ended by its own id (also when a check fails)."""
+    for p in running:
+        if p.poll() is None:
+            p.terminate()
+            p.wait(timeout=10)
+
+
+atexit.register(stop_all)
+
+
 def twin(seconds):
     p = subprocess.Popen([LAB, "twin", "--scene", "rest", "--seconds", str(seconds),
                           "--flash", FLASH, "--addr", ADDR],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    running.append(p)
     time.sleep(0.5)
     return p
 
@@ -71,10 +87,10 @@ changed = config()
 check(changed["counts_per_inch"] == 1600 and changed["lowpass_fc_hz"] == 80
       and changed["x_sign"] == -1 and changed["scheme"] == 1 and changed["fs_hz"] == 4000,
       "config set applies seven keys as a whole")
-r = device("config", "set", "counts_per_inch=3200", "adc_bits=1", expect=1)
+r = device("config", "set", "counts_per_inch=3200", "adc_bits=1", expect=2)
 check("adc_bits" in r.stderr, f"a value that does not validate is named: {r.stderr.strip()}")
 check(config() == changed, "and nothing changed (counts_per_inch is still 1600)")
-r = device("config", "set", "fs_hz=7000", expect=1)
+r = device("config", "set", "fs_hz=7000", expect=2)
 check("fs_hz" in r.stderr, f"a rate the trigger cannot make is named: {r.stderr.strip()}")
 r = device("config", "set", "cpi=3", expect=2)
 check("unknown key" in r.stderr, "an unknown key is a bad argument (exit 2)")

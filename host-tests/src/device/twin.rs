@@ -15,8 +15,10 @@
 //! The configuration interface runs as on the board: requests through
 //! `imu_app::control::serve`, the raw stream through `control::push_stream`, the profile in
 //! a [`FileFlash`] (two 16 KiB sectors, kept in a file if one is given, so a restarted twin
-//! finds what was saved). The twin runs the profile's rate: the scene's codes are played at
-//! `block_len(fs)` per millisecond, whatever rate the scene was made for, and a new rate
+//! finds what was saved). The twin runs the profile's rate, `block_len(fs)` samples a
+//! millisecond, and plays the scene in its own time whatever that rate ([`Playhead`]): each
+//! device sample takes the scene's sample at its time (the latest at or before it), so a
+//! device sampling faster repeats samples and one sampling slower skips them; a new rate
 //! changes the block length from the next millisecond (the board retimes its ADC trigger).
 //!
 //! The sampling's decisions are the board's (`imu_app::sampler` over a stand-in timer):
@@ -102,6 +104,52 @@ pub struct Input {
     pub codes: Vec<[u16; 3]>,
     /// Whether the finger holds KEY at each sample (empty: never).
     pub held: Vec<bool>,
+}
+
+/// Where the scene stands in device samples: device sample `n` since the last change of rate
+/// plays the scene's sample `base + n * fs_scene / fs_device` (rounded down), so the scene
+/// keeps its own time at any device rate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Playhead {
+    scene_hz: u64,
+    device_hz: u64,
+    base: usize,
+    n: u64,
+}
+
+impl Playhead {
+    /// At the scene's start, a scene at `scene_hz` [Hz] on a device at `device_hz` [Hz]
+    /// (both > 0).
+    pub const fn new(scene_hz: u32, device_hz: u32) -> Self {
+        Self {
+            scene_hz: scene_hz as u64,
+            device_hz: device_hz as u64,
+            base: 0,
+            n: 0,
+        }
+    }
+
+    /// The scene sample that the device's `j`-th sample from now plays.
+    pub fn index(&self, j: usize) -> usize {
+        self.base + ((self.n + j as u64) * self.scene_hz / self.device_hz.max(1)) as usize
+    }
+
+    /// The scene samples played so far.
+    pub fn played(&self) -> usize {
+        self.index(0)
+    }
+
+    /// `samples` device samples played.
+    pub fn advance(&mut self, samples: usize) {
+        self.n += samples as u64;
+    }
+
+    /// The device samples at `device_hz` [Hz] from now on.
+    pub fn retime(&mut self, device_hz: u32) {
+        self.base = self.played();
+        self.n = 0;
+        self.device_hz = u64::from(device_hz);
+    }
 }
 
 /// How the twin runs.
@@ -338,7 +386,9 @@ pub fn run(
     let mut late_ticks = 0u32;
     let mut next = Instant::now();
     let mut drain_left = (s.drain_s * 1000.0) as u32;
-    let (mut ms, mut played) = (0u32, 0usize);
+    let mut ms = 0u32;
+    let mut head = Playhead::new(input.fs_hz, config.fs_hz);
+    let mut chunk_buf: Vec<[u16; 3]> = Vec::with_capacity(device::block_len(device::FS_MAX_HZ));
     loop {
         board.now = ms.wrapping_mul(CLOCK_HZ / 1000);
         match operator.bus.swap(0, Ordering::Relaxed) {
@@ -346,25 +396,24 @@ pub fn run(
             RESUME => monitor.request_suspend(false),
             _ => {}
         }
-        if played + block <= input.codes.len() {
+        if head.index(block - 1) < input.codes.len() {
+            let played = head.played();
             scene_key.store(
                 input.held.get(played).copied().unwrap_or(false),
                 Ordering::Relaxed,
             );
+            chunk_buf.clear();
+            chunk_buf.extend((0..block).map(|j| input.codes[head.index(j)]));
             // Running: a block a millisecond. Suspended: the probe's block of three scans
             // 20 ms apart, every 60 ms, the last of them now, from the scene as it goes on.
             let probing = board.arr == probe_arr;
             let step = (input.fs_hz / PROBE_HZ) as usize;
-            let due = !probing || ms % (PROBE_SCANS as u32 * 1000 / PROBE_HZ) == 0;
+            let due = !probing || ms.is_multiple_of(PROBE_SCANS as u32 * 1000 / PROBE_HZ);
             let probe: [[u16; 3]; PROBE_SCANS] = core::array::from_fn(|k| {
                 let back = (PROBE_SCANS - 1 - k) * step;
-                input.codes[(played + block - 1).saturating_sub(back)]
+                input.codes[head.index(block - 1).saturating_sub(back)]
             });
-            let chunk: &[[u16; 3]] = if probing {
-                &probe
-            } else {
-                &input.codes[played..played + block]
-            };
+            let chunk: &[[u16; 3]] = if probing { &probe } else { &chunk_buf };
             if due {
                 if let Outcome::Block(delivery) = sampling.on_dma(&mut board, DmaEvent::Full) {
                     power.probed(&status, chunk);
@@ -381,10 +430,10 @@ pub fn run(
             }
             // The motion's onset as the scene has it: its first sample, at the full rate,
             // past the wake threshold from the suspend's first probe.
-            if power.moved(&status, &input.codes[played..played + block]) {
+            if power.moved(&status, &chunk_buf) {
                 power.cause(ms, "motion");
             }
-            played += block;
+            head.advance(block);
         } else {
             scene_key.store(false, Ordering::Relaxed);
             let owed = mouse.reports().pending() || monitor.in_flight();
@@ -411,6 +460,7 @@ pub fn run(
         if effect.retime {
             let fs_hz = commands.running().config.fs_hz;
             block = device::block_len(fs_hz);
+            head.retime(fs_hz);
             sampling = new_sampling(fs_hz).map_err(|e| TwinError::Device(e.to_string()))?;
             sampling.start(&mut board);
         }
@@ -465,7 +515,7 @@ pub fn run(
     }
     let end = End {
         power,
-        played,
+        played: head.played(),
         source: loaded.source,
         final_fs_hz: commands.running().config.fs_hz,
         stream_frames: stream.totals().0,
@@ -597,5 +647,29 @@ fn summary(
             .filter(|(ep, p)| *ep == imu_app::mouse::MOUSE_EP_IN & 0x7F && p.len() >= 3)
             .map(|(_, p)| [i64::from(p[1] as i8), i64::from(p[2] as i8)])
             .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Playhead;
+
+    #[test]
+    fn the_scene_keeps_its_own_time_at_any_device_rate() {
+        // Same rate: sample for sample.
+        let mut h = Playhead::new(3000, 3000);
+        assert_eq!((h.index(0), h.index(2)), (0, 2));
+        h.advance(3);
+        assert_eq!(h.played(), 3);
+        // A device twice as fast repeats each sample; after 1 s of it, 1 s of scene.
+        let mut h = Playhead::new(3000, 6000);
+        assert_eq!((0..4).map(|j| h.index(j)).collect::<Vec<_>>(), [0, 0, 1, 1]);
+        h.advance(6000);
+        assert_eq!(h.played(), 3000);
+        // Retimed to a slower rate mid-scene: from where it stood, skipping samples.
+        h.retime(1000);
+        assert_eq!((h.index(0), h.index(1)), (3000, 3003));
+        h.advance(1000);
+        assert_eq!(h.played(), 6000);
     }
 }
