@@ -206,6 +206,14 @@ fn device_arguments_are_refused_before_any_device_is_asked() {
         !std::path::Path::new("/nonexistent/imu").exists(),
         "nothing created"
     );
+    // A twin that is not running: what to do, not an OS error number.
+    let out = output(&["device", "--twin", "127.0.0.1:9", "info"]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("no twin listens on 127.0.0.1:9: start one with `cargo lab twin"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -12,14 +12,14 @@ use serde::Serialize;
 
 use crate::device::client::{Client, ClientError, HidLink, Link, Recorded};
 use crate::device::usbip::BUSID;
-use crate::device::usbip_host::UsbIpHost;
+use crate::device::usbip_host::{UsbIpError, UsbIpHost};
 use crate::formats::recording;
 
 use super::{positive, progress, Error, Outcome};
 
 /// One example, for `cargo lab` alone.
 pub const EXAMPLE: &str =
-    "cargo lab device config set counts_per_inch=1600 && cargo lab device save";
+    "cargo lab device config set counts_per_inch=1600 && cargo lab device save   (a board; the twin: cargo lab device --twin 127.0.0.1:3240 info)";
 
 /// `cargo lab device`.
 #[derive(clap::Args, Debug)]
@@ -420,6 +420,24 @@ impl From<ClientError> for Error {
     }
 }
 
+/// A twin that could not be reached, with what to do about it.
+fn unreachable(addr: std::net::SocketAddr, timeout: Duration, e: UsbIpError) -> Error {
+    use std::io::ErrorKind;
+    match &e {
+        UsbIpError::Io(io) if io.kind() == ErrorKind::ConnectionRefused => Error::Run(format!(
+            "no twin listens on {addr}: start one with `cargo lab twin --addr {addr}` (it \
+             serves until its scene has played)"
+        )),
+        UsbIpError::Io(io) if matches!(io.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {
+            Error::Run(format!(
+                "the twin at {addr} did not answer within {timeout:?}: it serves one host at a \
+                 time; is another `cargo lab device` or a USB/IP host attached to it?"
+            ))
+        }
+        _ => Error::Run(e.to_string()),
+    }
+}
+
 /// Runs `cargo lab device`.
 ///
 /// # Errors
@@ -429,7 +447,8 @@ pub fn run(a: &Args) -> Outcome {
     let timeout = Duration::from_secs_f64(a.timeout);
     match a.twin {
         Some(addr) => {
-            let host = UsbIpHost::connect(addr, BUSID, timeout).map_err(ClientError::from)?;
+            let host = UsbIpHost::connect(addr, BUSID, timeout)
+                .map_err(|e| unreachable(addr, timeout, e))?;
             dispatch(Client::new(host, timeout), a)
         }
         None => dispatch(Client::new(HidLink::open()?, timeout), a),

@@ -438,6 +438,11 @@ pub fn run(
             scene_key.store(false, Ordering::Relaxed);
             let owed = mouse.reports().pending() || monitor.in_flight();
             if drain_left == 0 || (!owed && mouse.reports().link() == Link::Configured) {
+                eprintln!(
+                    "twin: the scene has played ({:.1} s); the device goes away (for a longer \
+                     session: --scene rest --seconds S)",
+                    head.played() as f64 / f64::from(input.fs_hz)
+                );
                 break;
             }
             drain_left -= 1;
