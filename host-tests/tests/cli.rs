@@ -270,6 +270,48 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
             .any(|l| l == "scheme=euler" || l == "scheme=trapezoid"),
         "{before}"
     );
+    // Ctrl-C during a recording keeps what arrived, marked partial.
+    let file = std::env::temp_dir().join(format!("imu-cli-{}-partial.csv", std::process::id()));
+    let mut rec = lab()
+        .args([
+            "device",
+            "--twin",
+            addr.as_str(),
+            "record",
+            "--seconds",
+            "30",
+            "--out",
+        ])
+        .arg(&file)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("record starts");
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let killed = Command::new("kill")
+        .args(["-INT", &rec.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let out = rec.wait_with_output().expect("record ends");
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("interrupted: the") && err.contains("marked partial"),
+        "{err}"
+    );
+    let kept = std::fs::read_to_string(&file).expect("the partial file");
+    assert!(
+        kept.starts_with("# partial: interrupted after "),
+        "{}",
+        &kept[..80.min(kept.len())]
+    );
+    assert!(
+        kept.lines().count() > 1000,
+        "{} lines kept",
+        kept.lines().count()
+    );
+    let _ = std::fs::remove_file(&file);
     twin.kill().expect("the twin stops");
     twin.wait().expect("reaped");
 }

@@ -4,6 +4,7 @@
 //! lab's recording format (`allan`, `drift` and `replay` read it).
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use imu_core::profile::{Key, Kind};
@@ -290,18 +291,40 @@ fn config_get<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
         .join("\n"))
 }
 
+/// Set by Ctrl-C during a recording.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
 fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &PathBuf, json: bool) -> Outcome {
     positive("seconds", seconds)?;
     let fs = c.info()?.fs_hz;
     let n = (seconds * f64::from(fs)).round().max(1.0) as usize;
+    // Ctrl-C ends the recording and keeps what arrived (a second one would need the
+    // handler again: a process installs it once).
+    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed));
     let bar = progress(n as u64, json, "samples");
-    let rec = c.record(n, |k| bar.set_position(k as u64))?;
+    let rec = c.record_until(n, |k| bar.set_position(k as u64), &INTERRUPTED)?;
     bar.finish_and_clear();
-    let text = recording::write(&recording::Recording {
+    let mut text = recording::write(&recording::Recording {
         fs,
         samples: rec.samples.clone(),
     });
+    if rec.interrupted {
+        text.insert_str(
+            0,
+            &format!(
+                "# partial: interrupted after {} of {n} samples\n",
+                rec.samples.len()
+            ),
+        );
+    }
     std::fs::write(out, text).map_err(|e| Error::file(out, e))?;
+    if rec.interrupted {
+        return Err(Error::Run(format!(
+            "interrupted: the {} samples that arrived are in {} (marked partial)",
+            rec.samples.len(),
+            out.display()
+        )));
+    }
     summary(&rec, fs, out, json)
 }
 

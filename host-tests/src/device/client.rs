@@ -2,6 +2,7 @@
 //! USB/IP, or a board through `hidapi`), responses matched by tag, refusals as typed errors
 //! that name the key, and raw recording with every gap accounted.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use imu_core::profile::Key;
@@ -88,6 +89,8 @@ pub struct Recorded {
     pub missing_frames: u32,
     /// The device's own totals when the stream stopped: frames sent, samples lost.
     pub device_totals: (u32, u32),
+    /// Ended early by [`Client::record_until`]'s stop: fewer samples than asked.
+    pub interrupted: bool,
 }
 
 impl Recorded {
@@ -257,7 +260,21 @@ impl<L: Link> Client<L> {
     pub fn record(
         &mut self,
         samples: usize,
+        progress: impl FnMut(usize),
+    ) -> Result<Recorded, ClientError> {
+        self.record_until(samples, progress, &AtomicBool::new(false))
+    }
+
+    /// [`Self::record`], ending early (the stream stopped, [`Recorded::interrupted`] set,
+    /// what arrived kept) once `stop` is set: a user's Ctrl-C.
+    ///
+    /// # Errors
+    /// As [`Self::record`].
+    pub fn record_until(
+        &mut self,
+        samples: usize,
         mut progress: impl FnMut(usize),
+        stop: &AtomicBool,
     ) -> Result<Recorded, ClientError> {
         // A stream left running (a recording interrupted on this host, which never stopped
         // it) is stopped first; its frames still on the way are told apart by their numbers:
@@ -286,6 +303,10 @@ impl<L: Link> Client<L> {
             take(&mut rec, f);
         }
         while rec.samples.len() < samples {
+            if stop.load(Ordering::Relaxed) {
+                rec.interrupted = true;
+                break;
+            }
             let frame = self
                 .link
                 .recv(self.timeout)?

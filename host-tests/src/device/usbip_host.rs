@@ -311,6 +311,8 @@ impl UsbIpHost {
                 {
                     return Ok(None)
                 }
+                // A signal (the user's Ctrl-C, which the caller watches) woke the wait.
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
                 Err(e) => return Err(e.into()),
             }
         }
