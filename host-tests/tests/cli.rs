@@ -272,7 +272,7 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
     );
     // Ctrl-C during a recording keeps what arrived, marked partial.
     let file = std::env::temp_dir().join(format!("imu-cli-{}-partial.csv", std::process::id()));
-    let mut rec = lab()
+    let rec = lab()
         .args([
             "device",
             "--twin",
