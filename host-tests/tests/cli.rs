@@ -383,3 +383,37 @@ fn the_lab_says_its_version() {
         format!("lab {}", env!("CARGO_PKG_VERSION"))
     );
 }
+
+#[test]
+fn a_replay_that_never_calibrates_prints_its_table_and_fails_saying_why() {
+    let dir = std::env::temp_dir();
+    let short = dir.join(format!("imu-cli-{}-short.csv", std::process::id()));
+    std::fs::write(
+        &short,
+        "fs,3000\nn,x,y,z\n0,2048,2048,2457\n1,2048,2048,2457\n",
+    )
+    .expect("file");
+    let railed = dir.join(format!("imu-cli-{}-railed.csv", std::process::id()));
+    let mut csv = String::from("fs,3000\nn,x,y,z\n");
+    for i in 0..6000 {
+        csv += &format!("{i},0,{},2457\n", 2047 + i % 3);
+    }
+    std::fs::write(&railed, csv).expect("file");
+    for (file, why) in [
+        (&short, "shorter than the calibration window (1 s)"),
+        (&railed, "the last window failed on x: ADC code 0 is a rail"),
+    ] {
+        let out = lab().arg("replay").arg(file).output().expect("runs");
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(
+            text(&out.stdout).contains("sent 0 HID reports"),
+            "the table first"
+        );
+        assert!(
+            err.contains("calibration never succeeded") && err.contains(why),
+            "{err}"
+        );
+        let _ = std::fs::remove_file(file);
+    }
+}

@@ -126,6 +126,21 @@ pub fn positive(name: &'static str, v: f64) -> Result<f64, Error> {
     }
 }
 
+/// A run whose calibration never succeeded (`replay`, `simulate`): its `report`, and why,
+/// as a failed run (status 1).
+///
+/// # Errors
+/// [`Error::Check`] when nothing was tracked.
+pub fn tracked(t: &crate::device::track::Track, report: String) -> Outcome {
+    match &t.calibration_failure {
+        None => Ok(report),
+        Some(why) => Err(Error::Check {
+            report,
+            why: format!("calibration never succeeded, so nothing was tracked: {why}"),
+        }),
+    }
+}
+
 /// `value` as pretty JSON.
 pub fn json(value: &impl serde::Serialize) -> Outcome {
     Ok(serde_json::to_string_pretty(value)?)

@@ -50,8 +50,10 @@ pub fn run(a: &Args) -> Outcome {
         ..imu_core::Config::default()
     };
     let t = track::run(&config, rec.samples, every).map_err(|e| Error::Input(e.to_string()))?;
-    if a.json {
-        return super::json(&t);
-    }
-    Ok(format!("{}\n{}", a.file.display(), track::table(&t)))
+    let report = if a.json {
+        super::json(&t)?
+    } else {
+        format!("{}\n{}", a.file.display(), track::table(&t))
+    };
+    super::tracked(&t, report)
 }

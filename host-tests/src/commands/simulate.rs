@@ -73,7 +73,7 @@ pub fn run(a: &Args) -> Outcome {
     }
     let t = track::run(&config, samples, every).map_err(|e| Error::Run(e.to_string()))?;
     if a.json {
-        return super::json(&t);
+        return super::tracked(&t, super::json(&t)?);
     }
     let mut header = format!("scene {}: {}\n", sc.name, sc.about);
     let d = sc.stroke_distance_m();
@@ -85,5 +85,5 @@ pub fn run(a: &Args) -> Outcome {
             config.counts_per_inch
         );
     }
-    Ok(header + &track::table(&t))
+    super::tracked(&t, header + &track::table(&t))
 }

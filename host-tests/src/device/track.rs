@@ -47,6 +47,8 @@ pub struct Track {
     pub rejected_windows: u32,
     /// Time tracking began [s], or `None` if calibration never succeeded.
     pub tracking_from_s: Option<f64>,
+    /// Why calibration never succeeded, in words (`None` once it did).
+    pub calibration_failure: Option<String>,
     /// The cursor every `every_s` seconds.
     pub points: Vec<TrackPoint>,
     /// HID reports sent.
@@ -73,10 +75,19 @@ pub fn run(
     let mm_per_count = 25.4 / f64::from(config.counts_per_inch);
     let (mut n, mut sent, mut from) = (0u64, (0i64, 0i64), None);
     let mut points = vec![];
+    let mut last_rejection = None;
     for s in samples {
         n += 1;
-        if let Some(Event::Calibrated(_)) = tracker.feed(&[s]) {
-            from = Some(n as f64 / fs);
+        match tracker.feed(&[s]) {
+            Some(Event::Calibrated(_)) => from = Some(n as f64 / fs),
+            Some(Event::Rejected { axis, error }) => {
+                let name = ["x", "y", "z"]
+                    .get(usize::from(axis))
+                    .copied()
+                    .unwrap_or("?");
+                last_rejection = Some(format!("the last window failed on {name}: {error}"));
+            }
+            None => {}
         }
         if n % per_poll == 0 {
             let (dx, dy) = screen_motion(tracker.take_counts());
@@ -97,11 +108,21 @@ pub fn run(
             });
         }
     }
+    let calibration_failure = match (from, last_rejection) {
+        (Some(_), _) => None,
+        (None, Some(why)) => Some(why),
+        (None, None) => Some(format!(
+            "the {:.3} s played are shorter than the calibration window ({} s)",
+            n as f64 / fs,
+            config.calibration_s
+        )),
+    };
     Ok(Track {
         fs,
         samples: n,
         rejected_windows: tracker.counters().rejected_windows,
         tracking_from_s: from,
+        calibration_failure,
         points,
         reports: reporter.reports(),
         counts: sent,
@@ -114,7 +135,11 @@ pub fn table(t: &Track) -> String {
         "{} samples at {} Hz; calibration {}; {} rejected window(s)\n{:>9} {:>10} {:>10} {:>10} {:>10}\n",
         t.samples,
         t.fs,
-        t.tracking_from_s.map_or("never succeeded".to_string(), |s| format!("done at {s:.3} s")),
+        match (t.tracking_from_s, &t.calibration_failure) {
+            (Some(s), _) => format!("done at {s:.3} s"),
+            (None, Some(why)) => format!("never succeeded ({why})"),
+            (None, None) => "never succeeded".to_string(),
+        },
         t.rejected_windows,
         "t [s]",
         "x [counts]",

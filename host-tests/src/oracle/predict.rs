@@ -1,7 +1,6 @@
 //! `cargo lab predict`: the error-budget predictor. For each duration `t`, the RMS position
 //! error that each of the paper's laws (and the exact finite-N results) predicts.
 
-use crate::formats::number::Num;
 use serde::Serialize;
 
 use crate::oracle::reference as r;
@@ -39,7 +38,7 @@ pub enum PredictError {
     #[error("--t {0}: a duration must be a finite number > 0 s")]
     Duration(f64),
     /// `t * fs` is not a whole number.
-    #[error("--t {} at --fs {}: N = t * fs = {} is not a whole number of samples", Num(*t), Num(*fs), Num(*n))]
+    #[error("--t {} at --fs {}: N = t * fs = {} is not a whole number of samples", short(*t), short(*fs), short(*n))]
     NotWhole {
         /// The duration [s].
         t: f64,
@@ -49,7 +48,7 @@ pub enum PredictError {
         n: f64,
     },
     /// `t * fs` above [`N_MAX`].
-    #[error("--t {} at --fs {}: N = {} samples is above the supported 1e12", Num(*t), Num(*fs), Num(*n))]
+    #[error("--t {} at --fs {}: N = {} samples is above the supported 1e12", short(*t), short(*fs), short(*n))]
     TooLong {
         /// The duration [s].
         t: f64,
@@ -230,4 +229,15 @@ pub fn table(rows: &[Row]) -> String {
     }
     out += "RMS position error [m]. Trapezoid: N steps on N + 1 samples.\n";
     out
+}
+
+/// `v` as given: exponent form outside 1e-6..1e9 (so `--fs 1e300` is not quoted as 301
+/// digits; the oracle keeps its own, sharing nothing with the lab's formats).
+fn short(v: f64) -> String {
+    let a = v.abs();
+    if v != 0.0 && a.is_finite() && !(1e-6..1e9).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
 }
