@@ -8,6 +8,8 @@
 //! - The header is the first line whose fields are all names (none is a number) and which
 //!   holds every requested column.
 //! - Every data row has as many fields as the header; the requested columns are numbers.
+//! - A column named `n` (the recording format's sample index) must count up by one: a jump
+//!   is samples missing, refused where it is.
 //! - The sampling rate: `--fs`, else a time column (`--time-column NAME`, seconds), else the
 //!   `fs` metadata line. A time column's steps are checked: gaps (a step over 1.5x the
 //!   median) and jitter (a step more than 1 % off the median) are counted and reported.
@@ -129,9 +131,25 @@ pub fn read(text: &str, o: &Options) -> Result<Data, RecordingError> {
         })?),
         None => None,
     };
+    // The recording format's sample index: a jump is samples missing, which an Allan
+    // deviation or a drift experiment over an unbroken record would silently hide.
+    let n_idx = index("n");
+    let mut last_n: Option<u64> = None;
     let mut raw = vec![Vec::with_capacity(rows.len()); idx.len()];
     let mut times = vec![];
     for (line, f) in &rows {
+        if let Some(c) = n_idx {
+            let Ok(n) = f[c].parse::<u64>() else {
+                return err(*line, format!("n = `{}` is not a sample index", f[c]));
+            };
+            if let Some(prev) = last_n.filter(|&p| n != p + 1) {
+                return err(
+                    *line,
+                    format!("n jumps from {prev} to {n}: samples are missing (a gap the analysis would hide)"),
+                );
+            }
+            last_n = Some(n);
+        }
         for (k, &c) in idx.iter().enumerate() {
             match f[c].parse::<f64>() {
                 Ok(v) if v.is_finite() => raw[k].push(v),
@@ -270,6 +288,17 @@ mod tests {
         );
         // A single sample is a valid file (the commands say what they need).
         assert_eq!(read("fs,10\nax\n1\n", &o).map(|d| d.raw[0].len()), Ok(1));
+    }
+
+    #[test]
+    fn a_jump_in_the_sample_index_is_refused_where_it_is() {
+        let o = opts(&["x"]);
+        let text = "fs,100\nn,x,y,z\n4998,1,2,3\n4999,1,2,3\n9000,1,2,3\n";
+        fails(text, &o, 5, "n jumps from 4999 to 9000");
+        assert!(
+            read("fs,100\nn,x,y,z\n7,1,2,3\n8,1,2,3\n", &o).is_ok(),
+            "any start"
+        );
     }
 
     #[test]
