@@ -47,6 +47,8 @@ impl fmt::Display for RecordingError {
 /// The lines of a CSV that carry content, with their 1-based numbers and trimmed fields:
 /// blank lines and `#` comments are skipped.
 pub(crate) fn content_lines(text: &str) -> impl Iterator<Item = (usize, &str, Vec<&str>)> {
+    // A spreadsheet's UTF-8 byte-order mark is not part of the first field.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     text.lines().enumerate().filter_map(|(i, raw)| {
         let l = raw.trim();
         (!l.is_empty() && !l.starts_with('#'))
@@ -281,6 +283,12 @@ mod tests {
         );
         // A negative rate is refused as a rate, not as a disagreement with itself.
         fails("n,x,y,z\n0,1,2,3\n", Some(-1.0), 0, "sampling rate -1 Hz");
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_line() {
+        let r = parse("\u{feff}fs,100\nn,x,y,z\n0,1,2,3\n", None).expect("parses");
+        assert_eq!((r.fs, r.samples.len()), (100, 1));
     }
 
     #[test]
