@@ -207,7 +207,7 @@ impl Commands {
             return Reply::error(ErrorCode::Unsupported(Key::FsHz));
         }
         if let Err(e) = staged.validate() {
-            return Reply::error(error(e));
+            return Reply::error(blame(error(e), pairs));
         }
         let effect = self.apply(staged);
         Reply {
@@ -251,6 +251,18 @@ impl Commands {
         self.source = Source::Stored;
         self.invalid = None;
         Some((tag, Response::Done(code)))
+    }
+}
+
+/// Two cursor axes on one sensor axis: the key this request set is the one to name (the
+/// other kept its value), `y_axis` when it set both or neither.
+fn blame(code: ErrorCode, pairs: &[(Key, f64)]) -> ErrorCode {
+    let set = |k: Key| pairs.iter().any(|&(p, _)| p == k);
+    match code {
+        ErrorCode::Invalid(Key::YAxis) if set(Key::XAxis) && !set(Key::YAxis) => {
+            ErrorCode::Invalid(Key::XAxis)
+        }
+        other => other,
     }
 }
 

@@ -165,13 +165,16 @@ fn a_set_is_staged_over_frames_and_applied_as_a_whole() {
 
 #[test]
 fn a_refused_set_names_the_key_and_changes_nothing() {
-    let cases: [(&[(Key, f64)], ErrorCode); 6] = [
+    let cases: [(&[(Key, f64)], ErrorCode); 8] = [
         (&[(Key::AdcBits, 12.5)], ErrorCode::Value(Key::AdcBits)),
         (&[(Key::AdcBits, 1.0)], ErrorCode::Invalid(Key::AdcBits)),
         (
             &[(Key::XAxis, 1.0), (Key::YAxis, 1.0)],
             ErrorCode::Invalid(Key::YAxis),
         ),
+        // Only x_axis changed, onto y_axis's sensor axis: x_axis is named.
+        (&[(Key::XAxis, 1.0)], ErrorCode::Invalid(Key::XAxis)),
+        (&[(Key::YAxis, 0.0)], ErrorCode::Invalid(Key::YAxis)),
         // Valid for the core (1..=100 kHz) but not a rate the 96 MHz trigger makes.
         (&[(Key::FsHz, 7000.0)], ErrorCode::Unsupported(Key::FsHz)),
         (&[(Key::FsHz, 50.0)], ErrorCode::Unsupported(Key::FsHz)),
