@@ -287,7 +287,13 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
         .stderr(Stdio::piped())
         .spawn()
         .expect("record starts");
-    std::thread::sleep(std::time::Duration::from_millis(1500));
+    std::thread::sleep(std::time::Duration::from_millis(800));
+    // Meanwhile a second client: the twin serves one host at a time, and says so.
+    let busy = device(&["--timeout", "0.5", "info"]);
+    let err = text(&busy.stderr);
+    assert_eq!(busy.status.code(), Some(1), "{err}");
+    assert!(err.contains("it serves one host at a time"), "{err}");
+    std::thread::sleep(std::time::Duration::from_millis(200));
     let killed = Command::new("kill")
         .args(["-INT", &rec.id().to_string()])
         .status()
