@@ -10,7 +10,8 @@ what the guest's kernel reports:
 - enumeration: the device and both interfaces bound by usbhid; no error or warning about the
   device in the kernel log (vhci_hcd's own lines are reported, not judged);
 - the mouse: hid-input's capabilities equal what the report descriptor (read back from sysfs)
-  declares; the evdev REL sums equal the twin's count total exactly; every KEY press and
+  declares; the evdev REL sums equal the twin's count total exactly (usbmon's record too,
+  when its text reader kept every report: under load it drops events); every KEY press and
   release (the twin's operator presses KEY three times) arrives once, in order; the whole
   guest paused 300 ms (QEMU stopped: its USB host polls nothing) loses nothing;
 - a bus reset mid-scene (`usbip detach`, `attach`) with KEY held: re-enumerated, the held
@@ -631,14 +632,20 @@ def main():
     say(f"evdev: REL sums {rel} in {frames} frames; the twin sent {summary['sent']} in "
         f"{summary['reports']} reports (discarded {summary['discarded']}, owed "
         f"{summary['undelivered']}, in flight {summary['in_flight']})")
+    lost = lost_unconfirmed(rel, None, summary)
+    check(lost is not None,
+          f"the evdev REL sums equal the twin's count total exactly, less the unconfirmed "
+          f"reports its detach dropped (unconfirmed {summary['unconfirmed']}, dropped {lost})")
+    # usbmon's text reader drops events when it falls behind (it says nothing of it): its
+    # record is judged only when it holds every report.
     mon = mouse_reports(usbmon)
     mon_sum = [sum(x for x, _ in mon), sum(y for _, y in mon)]
-    lost = lost_unconfirmed(mon_sum, len(mon), summary)
-    check(lost is not None,
-          f"usbmon: the USB core completed {len(mon)} mouse reports summing to {mon_sum}: the "
-          f"twin's count total exactly, less the unconfirmed reports its detach dropped "
-          f"(unconfirmed {summary['unconfirmed']}, dropped {lost})")
-    check(rel == mon_sum, "the evdev REL sums equal the USB core's exactly")
+    if lost is not None and len(mon) == summary["reports"] - len(lost):
+        check(mon_sum == rel, f"usbmon: the USB core completed {len(mon)} mouse reports "
+              f"summing to {mon_sum}, the same")
+    else:
+        say(f"usbmon's reader kept {len(mon)} of the mouse reports (summing to {mon_sum}): "
+            f"incomplete under load, not judged")
     check(summary["accounted"], "every count the twin produced is sent, discarded or owed")
     check(summary["sent"] != [0, 0], "the cursor moved")
     # Before the reset: three clicks, then the held press, released by the input core when
