@@ -57,6 +57,13 @@ fn connect(addr: SocketAddr) -> Client<UsbIpHost> {
     }
 }
 
+/// The stretch of [`scene`] a recording holds, found from its first sample (the scene's
+/// codes are unique and encode their own index).
+fn scene_stretch(samples: &[[u16; 3]], seconds: f64) -> Vec<[u16; 3]> {
+    let start = usize::from(samples[0][0]) + (usize::from(samples[0][1]) << 12);
+    scene(seconds).codes[start..start + samples.len()].to_vec()
+}
+
 fn value(config: &[(Key, f64)], key: Key) -> f64 {
     config
         .iter()
@@ -172,11 +179,7 @@ fn a_recording_is_the_scene_sample_for_sample() {
     assert_eq!(rec.missing_frames, 0);
     assert_eq!(rec.device_totals.1, 0);
     assert!(summary.stream_frames >= rec.frames);
-    // The scene's codes are unique: the first recorded sample says where the stream began.
-    let s0 = rec.samples[0];
-    let start = usize::from(s0[0]) + (usize::from(s0[1]) << 12);
-    let expect = &scene(5.0).codes[start..start + rec.samples.len()];
-    assert_eq!(rec.samples, expect);
+    assert_eq!(rec.samples, scene_stretch(&rec.samples, 5.0));
     let _ = std::fs::remove_file(&flash);
 }
 
@@ -201,12 +204,7 @@ fn a_recording_after_an_abandoned_stream_starts_afresh() {
         "gaps: {:?}",
         rec.gaps
     );
-    let s0 = rec.samples[0];
-    let start = usize::from(s0[0]) + (usize::from(s0[1]) << 12);
-    assert_eq!(
-        rec.samples,
-        &scene(5.0).codes[start..start + rec.samples.len()]
-    );
+    assert_eq!(rec.samples, scene_stretch(&rec.samples, 5.0));
     let _ = std::fs::remove_file(&flash);
 }
 

@@ -294,8 +294,8 @@ fn config_get<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
 /// Set by Ctrl-C during a recording.
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
+/// Records `seconds` (checked by [`check_args`], like `out`) into `out`.
 fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &PathBuf, json: bool) -> Outcome {
-    positive("seconds", seconds)?;
     let fs = c.info()?.fs_hz;
     let n = (seconds * f64::from(fs)).round().max(1.0) as usize;
     // Ctrl-C ends the recording and keeps what arrived (a second one would need the
