@@ -351,12 +351,11 @@ impl Sampler {
         }
     }
 
-    /// One probe scan of X, Y, Z by software on the parked ADC, on whatever clock runs (the
-    /// HSI after a Stop), the ADC powered only for it; `None` if the acquisition could not
-    /// be parked. Each conversion waits for the ADC's end of conversion; an ADC that never
-    /// answers is the watchdog's.
+    /// One probe scan of X, Y, Z by software on the ADC [`Self::park`] parked (every Stop
+    /// parks first: `crate::stop`), on whatever clock runs (the HSI after a Stop), the ADC
+    /// powered only for it; `None` if the acquisition is not parked. Each conversion waits
+    /// for the ADC's end of conversion; an ADC that never answers is the watchdog's.
     pub fn probe_scan(&mut self) -> Option<[u16; 3]> {
-        self.park();
         let p = self.board.parked.as_mut()?;
         let pins = &self.board.pins;
         p.adc.enable();
