@@ -423,3 +423,34 @@ fn a_replay_that_never_calibrates_prints_its_table_and_fails_saying_why() {
         let _ = std::fs::remove_file(file);
     }
 }
+
+#[test]
+fn an_endless_input_is_refused_at_its_first_line_not_read_whole() {
+    // /dev/zero has no line end: a reader that reads a line (or the file) whole never
+    // returns; the bounded reader refuses it after 64 KiB and quotes only its start.
+    for args in [
+        &["replay", "/dev/zero"][..],
+        &["allan", "/dev/zero", "--columns", "x", "--scale", "1"],
+        &[
+            "drift",
+            "/dev/zero",
+            "--columns",
+            "x",
+            "--scale",
+            "1",
+            "--calibrate-s",
+            "1",
+            "--t",
+            "1",
+        ],
+    ] {
+        let out = output(args);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.starts_with("error: /dev/zero: line 1: longer than 65536 bytes"),
+            "{args:?}: {err}"
+        );
+        assert!(err.len() < 200, "{args:?}: quoted short: {err}");
+    }
+}

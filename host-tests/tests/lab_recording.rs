@@ -56,7 +56,7 @@ fn the_real_recording_has_the_noise_its_readme_states() {
     // z with extra slow drift.
     let text = include_str!("../data/mpu6050-static-100hz.csv");
     let d = read(
-        text,
+        text.as_bytes(),
         &Options {
             columns: vec!["ax".into(), "ay".into(), "az".into()],
             fs: None,

@@ -39,7 +39,7 @@ fn replaying_a_written_recording_is_the_same_as_running_it() {
     for (i, s) in samples.iter().enumerate() {
         csv += &format!("{i},{},{},{}\n", s[0], s[1], s[2]);
     }
-    let rec = recording::parse(&csv, None).expect("valid file");
+    let rec = recording::parse(csv.as_bytes(), None).expect("valid file");
     assert_eq!(rec.fs, 3000);
     let config = config_for(&sc);
     let direct = track::run(&config, samples, 0.25).expect("valid");
@@ -50,7 +50,8 @@ fn replaying_a_written_recording_is_the_same_as_running_it() {
 
 #[test]
 fn a_recording_shorter_than_the_calibration_never_tracks() {
-    let rec = recording::parse("n,x,y,z\n0,2048,2048,2048\n", Some(3000.0)).expect("valid");
+    let rec =
+        recording::parse("n,x,y,z\n0,2048,2048,2048\n".as_bytes(), Some(3000.0)).expect("valid");
     let t = track::run(&Config::default(), rec.samples, 0.1).expect("valid");
     assert_eq!((t.tracking_from_s, t.points.len(), t.reports), (None, 0, 0));
 }

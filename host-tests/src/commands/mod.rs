@@ -146,9 +146,11 @@ pub fn json(value: &impl serde::Serialize) -> Outcome {
     Ok(serde_json::to_string_pretty(value)?)
 }
 
-/// Reads a text file.
-pub fn read(path: &Path) -> Result<String, Error> {
-    std::fs::read_to_string(path).map_err(|e| Error::file(path, e))
+/// Opens a file to be read as a stream (the recording readers read it line by line).
+pub fn open(path: &Path) -> Result<std::io::BufReader<std::fs::File>, Error> {
+    std::fs::File::open(path)
+        .map(std::io::BufReader::new)
+        .map_err(|e| Error::file(path, e))
 }
 
 /// Writes `name` into the `--out` directory `dir` (created if missing); returns its path.
@@ -229,9 +231,8 @@ impl Recording {
                 ))
             }
         };
-        let text = read(&self.file)?;
         columns::read(
-            &text,
+            open(&self.file)?,
             &columns::Options {
                 columns: self.columns.clone(),
                 fs: self.fs,

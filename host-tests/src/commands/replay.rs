@@ -41,8 +41,8 @@ pub fn run(a: &Args) -> Outcome {
     // The arguments first (status 2), before the file is read.
     let fs_arg = a.fs.map(|fs| positive("fs", fs)).transpose()?;
     let every = positive("every", a.every)?;
-    let text = super::read(&a.file)?;
-    let rec = recording::parse(&text, fs_arg).map_err(|e| Error::file(&a.file, e))?;
+    let rec =
+        recording::parse(super::open(&a.file)?, fs_arg).map_err(|e| Error::file(&a.file, e))?;
     let config = imu_core::Config {
         fs_hz: rec.fs,
         m_s2_per_lsb: a.m_s2_per_lsb,

@@ -53,8 +53,8 @@ pub struct Args {
 fn input(a: &Args) -> Result<twin::Input, Error> {
     let mut input = match &a.replay {
         Some(file) => {
-            let text = super::read(file)?;
-            let rec = recording::parse(&text, None).map_err(|e| Error::file(file, e))?;
+            let rec =
+                recording::parse(super::open(file)?, None).map_err(|e| Error::file(file, e))?;
             twin::Input {
                 fs_hz: rec.fs,
                 codes: rec.samples,

@@ -15,9 +15,13 @@
 //!   median) and jitter (a step more than 1 % off the median) are counted and reported.
 //! - Units: `--scale M_S2_PER_LSB` for raw counts, or `--units g` / `--units m_s2`.
 //!
-//! Every problem is an error naming the line; nothing panics.
+//! Every problem is an error naming the line; nothing panics. The file is read as a stream
+//! of bounded lines ([`super::lines`]); only the requested columns are kept.
 
-use crate::formats::recording::{content_lines, err, RecordingError};
+use std::io::BufRead;
+
+use crate::formats::lines::{content_lines, quote};
+use crate::formats::recording::{err, RecordingError};
 
 /// How the values become m/s^2.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,40 +68,126 @@ fn is_number(s: &str) -> bool {
     s.parse::<f64>().is_ok()
 }
 
-/// Reads `text`.
+/// The header found, and what each data row is checked against.
+struct Header {
+    /// Its line.
+    line: usize,
+    /// Its names.
+    names: Vec<String>,
+    /// The requested columns' positions.
+    idx: Vec<usize>,
+    /// The time column's position.
+    t_idx: Option<usize>,
+    /// The sample index column's position.
+    n_idx: Option<usize>,
+    /// The last sample index seen.
+    last_n: Option<u64>,
+}
+
+impl Header {
+    fn new(line: usize, fields: &[&str], o: &Options) -> Result<Self, RecordingError> {
+        let names: Vec<String> = fields.iter().map(|f| f.to_string()).collect();
+        let index = |name: &str| names.iter().position(|x| x == name);
+        let idx = o.columns.iter().filter_map(|c| index(c)).collect();
+        let t_idx = match &o.time_column {
+            Some(t) => Some(index(t).ok_or_else(|| RecordingError {
+                line,
+                problem: format!("--time-column {t}: not in the header"),
+            })?),
+            None => None,
+        };
+        // The recording format's sample index: a jump is samples missing, which an Allan
+        // deviation or a drift experiment over an unbroken record would silently hide.
+        let n_idx = index("n");
+        Ok(Self {
+            line,
+            names,
+            idx,
+            t_idx,
+            n_idx,
+            last_n: None,
+        })
+    }
+
+    /// One data row at `line` checked and its values appended.
+    fn row(
+        &mut self,
+        line: usize,
+        f: &[&str],
+        raw: &mut [Vec<f64>],
+        times: &mut Vec<(usize, f64)>,
+    ) -> Result<(), RecordingError> {
+        if f.len() != self.names.len() {
+            return err(
+                line,
+                format!("{} fields, the header has {}", f.len(), self.names.len()),
+            );
+        }
+        if let Some(c) = self.n_idx {
+            let Ok(n) = f[c].parse::<u64>() else {
+                return err(line, format!("n = `{}` is not a sample index", quote(f[c])));
+            };
+            if let Some(prev) = self.last_n.filter(|&p| n != p + 1) {
+                return err(
+                    line,
+                    format!("n jumps from {prev} to {n}: samples are missing (a gap the analysis would hide)"),
+                );
+            }
+            self.last_n = Some(n);
+        }
+        for (k, &c) in self.idx.iter().enumerate() {
+            match f[c].parse::<f64>() {
+                Ok(v) if v.is_finite() => raw[k].push(v),
+                _ => {
+                    return err(
+                        line,
+                        format!("{} = `{}` is not a number", self.names[c], quote(f[c])),
+                    )
+                }
+            }
+        }
+        if let Some(t) = self.t_idx {
+            match f[t].parse::<f64>() {
+                Ok(v) if v.is_finite() => times.push((line, v)),
+                _ => return err(line, format!("time `{}` is not a number", quote(f[t]))),
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads `input`.
 ///
 /// # Errors
 /// The first problem, with its line.
-pub fn read(text: &str, o: &Options) -> Result<Data, RecordingError> {
+pub fn read(input: impl BufRead, o: &Options) -> Result<Data, RecordingError> {
     if o.columns.is_empty() {
         return err(0, "--columns: name at least one column");
     }
     let mut fs_meta = None;
-    let mut header: Option<(usize, Vec<String>)> = None;
-    let mut rows: Vec<(usize, Vec<&str>)> = vec![];
-    for (line, l, fields) in content_lines(text) {
-        match &header {
-            Some((_, h)) => {
-                if fields.len() != h.len() {
-                    return err(
-                        line,
-                        format!("{} fields, the header has {}", fields.len(), h.len()),
-                    );
-                }
-                rows.push((line, fields));
-            }
+    let mut header: Option<Header> = None;
+    let mut raw: Vec<Vec<f64>> = vec![Vec::new(); o.columns.len()];
+    let mut times = vec![];
+    for l in content_lines(input) {
+        let l = l?;
+        let (line, fields) = (l.number, l.fields());
+        match &mut header {
+            Some(h) => h.row(line, &fields, &mut raw, &mut times)?,
             None => {
                 let all_names = fields.iter().all(|f| !f.is_empty() && !is_number(f));
                 let has_all = o.columns.iter().all(|c| fields.contains(&c.as_str()));
                 if all_names && has_all {
-                    header = Some((line, fields.iter().map(|f| f.to_string()).collect()));
+                    header = Some(Header::new(line, &fields, o)?);
                 } else if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") {
                     match fields[1].parse::<f64>() {
                         Ok(v) if v.is_finite() && v > 0.0 => fs_meta = Some(v),
                         _ => {
                             return err(
                                 line,
-                                format!("`{l}`: the sampling rate must be a number > 0"),
+                                format!(
+                                    "`{}`: the sampling rate must be a number > 0",
+                                    quote(&l.text)
+                                ),
                             )
                         }
                     }
@@ -110,58 +200,21 @@ pub fn read(text: &str, o: &Options) -> Result<Data, RecordingError> {
                         .collect();
                     return err(
                         line,
-                        format!("the header `{l}` has no column {}", missing.join(", ")),
+                        format!(
+                            "the header `{}` has no column {}",
+                            quote(&l.text),
+                            missing.join(", ")
+                        ),
                     );
                 }
             }
         }
     }
-    let Some((hline, h)) = header else {
+    let Some(h) = header else {
         return err(0, format!("no header row naming {}", o.columns.join(", ")));
     };
-    if rows.is_empty() {
-        return err(hline, "a header and no data rows");
-    }
-    let index = |name: &str| h.iter().position(|x| x == name);
-    let idx: Vec<usize> = o.columns.iter().filter_map(|c| index(c)).collect();
-    let t_idx = match &o.time_column {
-        Some(t) => Some(index(t).ok_or_else(|| RecordingError {
-            line: hline,
-            problem: format!("--time-column {t}: not in the header"),
-        })?),
-        None => None,
-    };
-    // The recording format's sample index: a jump is samples missing, which an Allan
-    // deviation or a drift experiment over an unbroken record would silently hide.
-    let n_idx = index("n");
-    let mut last_n: Option<u64> = None;
-    let mut raw = vec![Vec::with_capacity(rows.len()); idx.len()];
-    let mut times = vec![];
-    for (line, f) in &rows {
-        if let Some(c) = n_idx {
-            let Ok(n) = f[c].parse::<u64>() else {
-                return err(*line, format!("n = `{}` is not a sample index", f[c]));
-            };
-            if let Some(prev) = last_n.filter(|&p| n != p + 1) {
-                return err(
-                    *line,
-                    format!("n jumps from {prev} to {n}: samples are missing (a gap the analysis would hide)"),
-                );
-            }
-            last_n = Some(n);
-        }
-        for (k, &c) in idx.iter().enumerate() {
-            match f[c].parse::<f64>() {
-                Ok(v) if v.is_finite() => raw[k].push(v),
-                _ => return err(*line, format!("{} = `{}` is not a number", h[c], f[c])),
-            }
-        }
-        if let Some(t) = t_idx {
-            match f[t].parse::<f64>() {
-                Ok(v) if v.is_finite() => times.push((*line, v)),
-                _ => return err(*line, format!("time `{}` is not a number", f[t])),
-            }
-        }
+    if raw[0].is_empty() {
+        return err(h.line, "a header and no data rows");
     }
     let mut notes = vec![];
     let fs_time = if times.len() >= 2 {
@@ -244,7 +297,7 @@ mod tests {
 
     #[track_caller]
     fn fails(text: &str, o: &Options, line: usize, words: &str) {
-        let e = read(text, o).expect_err("malformed");
+        let e = read(text.as_bytes(), o).expect_err("malformed");
         assert_eq!(e.line, line, "{e}");
         assert!(e.problem.contains(words), "{e}");
     }
@@ -252,7 +305,7 @@ mod tests {
     #[test]
     fn reads_the_recordings_layout() {
         let text = "Fs,100\nLogging Type,1\nax,ay,az,gx\n1,2,3,4\n5,6,7,8\n";
-        let d = read(text, &opts(&["az", "ax"])).expect("valid");
+        let d = read(text.as_bytes(), &opts(&["az", "ax"])).expect("valid");
         assert_eq!(d.fs, 100.0);
         assert_eq!(d.fs_source, "the fs metadata line");
         assert_eq!(d.raw, vec![vec![3.0, 7.0], vec![1.0, 5.0]]);
@@ -287,7 +340,10 @@ mod tests {
             "--scale -1",
         );
         // A single sample is a valid file (the commands say what they need).
-        assert_eq!(read("fs,10\nax\n1\n", &o).map(|d| d.raw[0].len()), Ok(1));
+        assert_eq!(
+            read("fs,10\nax\n1\n".as_bytes(), &o).map(|d| d.raw[0].len()),
+            Ok(1)
+        );
     }
 
     #[test]
@@ -296,7 +352,7 @@ mod tests {
         let text = "fs,100\nn,x,y,z\n4998,1,2,3\n4999,1,2,3\n9000,1,2,3\n";
         fails(text, &o, 5, "n jumps from 4999 to 9000");
         assert!(
-            read("fs,100\nn,x,y,z\n7,1,2,3\n8,1,2,3\n", &o).is_ok(),
+            read("fs,100\nn,x,y,z\n7,1,2,3\n8,1,2,3\n".as_bytes(), &o).is_ok(),
             "any start"
         );
     }
@@ -307,7 +363,7 @@ mod tests {
         o.time_column = Some("t".into());
         o.units = Units::G;
         let text = "t,ax\n0.00,1\n0.01,1\n0.02,1\n0.05,1\n0.0605,1\n0.07,1\n";
-        let d = read(text, &o).expect("valid");
+        let d = read(text.as_bytes(), &o).expect("valid");
         assert!((d.fs - 100.0).abs() < 1e-9);
         assert_eq!(d.notes.len(), 2, "{:?}", d.notes);
         assert!(d.notes[0].contains("1 gap(s)") && d.notes[0].contains("line 5"));

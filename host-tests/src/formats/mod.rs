@@ -2,6 +2,7 @@
 //! `drift`), SVG charts out, and numbers in messages.
 
 pub mod columns;
+pub mod lines;
 pub mod number;
 pub mod plot;
 pub mod recording;

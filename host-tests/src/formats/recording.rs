@@ -12,9 +12,13 @@
 //! The sampling rate comes from `--fs`, else the `fs,` line, else the `t` column's mean
 //! step; two sources that disagree are an error. Sample indices must run on without gaps
 //! (a gap is lost time, and lost time is a position error); times must increase with a
-//! step within 1 % of the mean. Every problem is reported with its line number.
+//! step within 1 % of the mean. Every problem is reported with its line number. The file is
+//! read as a stream of bounded lines ([`super::lines`]).
 
 use std::fmt;
+use std::io::BufRead;
+
+use super::lines::{content_lines, quote};
 
 /// A recorded trace.
 #[derive(Clone, Debug, PartialEq)]
@@ -42,18 +46,6 @@ impl fmt::Display for RecordingError {
             write!(f, "line {}: {}", self.line, self.problem)
         }
     }
-}
-
-/// The lines of a CSV that carry content, with their 1-based numbers and trimmed fields:
-/// blank lines and `#` comments are skipped.
-pub(crate) fn content_lines(text: &str) -> impl Iterator<Item = (usize, &str, Vec<&str>)> {
-    // A spreadsheet's UTF-8 byte-order mark is not part of the first field.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    text.lines().enumerate().filter_map(|(i, raw)| {
-        let l = raw.trim();
-        (!l.is_empty() && !l.starts_with('#'))
-            .then(|| (i + 1, l, l.split(',').map(str::trim).collect()))
-    })
 }
 
 /// An error at `line` (0: the file as a whole).
@@ -84,14 +76,16 @@ pub fn write(rec: &Recording) -> String {
 ///
 /// # Errors
 /// The first problem, with its line.
-pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingError> {
+pub fn parse(input: impl BufRead, fs_arg: Option<f64>) -> Result<Recording, RecordingError> {
     let mut fs_line: Option<f64> = None;
     let mut clock = None;
     let mut samples = vec![];
     let mut first_stamp: Option<(usize, f64)> = None;
     let mut last_stamp: Option<f64> = None;
     let mut steps: Vec<(usize, f64)> = vec![];
-    for (line, l, fields) in content_lines(text) {
+    for l in content_lines(input) {
+        let l = l?;
+        let (line, fields) = (l.number, l.fields());
         let Some(clk) = clock else {
             if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") {
                 match fields[1].parse::<f64>() {
@@ -107,7 +101,7 @@ pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingErro
                             line,
                             format!(
                                 "`fs,{}`: the sampling rate must be a number > 0 Hz",
-                                fields[1]
+                                quote(fields[1])
                             ),
                         )
                     }
@@ -121,7 +115,10 @@ pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingErro
                 _ => {
                     return err(
                         line,
-                        format!("expected the header `n,x,y,z` or `t,x,y,z`, found `{l}`"),
+                        format!(
+                            "expected the header `n,x,y,z` or `t,x,y,z`, found `{}`",
+                            quote(&l.text)
+                        ),
                     )
                 }
             };
@@ -132,14 +129,17 @@ pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingErro
         }
         let stamp: f64 = match fields[0].parse::<f64>() {
             Ok(v) if v.is_finite() => v,
-            _ => return err(line, format!("`{}` is not a number", fields[0])),
+            _ => return err(line, format!("`{}` is not a number", quote(fields[0]))),
         };
         if clk == Clock::Index {
             let want = first_stamp.map_or(stamp, |(_, f)| f + samples.len() as f64);
             if stamp != stamp.trunc() || stamp < 0.0 {
                 return err(
                     line,
-                    format!("sample index `{}` is not a whole number >= 0", fields[0]),
+                    format!(
+                        "sample index `{}` is not a whole number >= 0",
+                        quote(fields[0])
+                    ),
                 );
             }
             if stamp != want {
@@ -169,8 +169,9 @@ pub fn parse(text: &str, fs_arg: Option<f64>) -> Result<Recording, RecordingErro
                 err(
                     line,
                     format!(
-                        "{} = `{f}` is not an ADC code (a whole number 0..=65535)",
-                        ["x", "y", "z"][k]
+                        "{} = `{}` is not an ADC code (a whole number 0..=65535)",
+                        ["x", "y", "z"][k],
+                        quote(f)
                     ),
                 )
             })?;
@@ -232,16 +233,20 @@ mod tests {
 
     #[track_caller]
     fn fails(text: &str, fs: Option<f64>, line: usize, words: &str) {
-        let e = parse(text, fs).expect_err("malformed");
+        let e = parse(text.as_bytes(), fs).expect_err("malformed");
         assert_eq!(e.line, line, "{e}");
         assert!(e.problem.contains(words), "{e}");
     }
 
     #[test]
     fn reads_index_and_time_files() {
-        let r = parse("# x\nfs,1000\nn,x,y,z\n0,1,2,3\n1,4,5,6\n", None).expect("valid");
+        let r = parse("# x\nfs,1000\nn,x,y,z\n0,1,2,3\n1,4,5,6\n".as_bytes(), None).expect("valid");
         assert_eq!((r.fs, r.samples), (1000, vec![[1, 2, 3], [4, 5, 6]]));
-        let r = parse("t,x,y,z\n0.000,1,2,3\n0.001,1,2,3\n0.002,1,2,3\n", None).expect("valid");
+        let r = parse(
+            "t,x,y,z\n0.000,1,2,3\n0.001,1,2,3\n0.002,1,2,3\n".as_bytes(),
+            None,
+        )
+        .expect("valid");
         assert_eq!(r.fs, 1000);
     }
 
@@ -287,14 +292,14 @@ mod tests {
 
     #[test]
     fn a_byte_order_mark_is_not_part_of_the_first_line() {
-        let r = parse("\u{feff}fs,100\nn,x,y,z\n0,1,2,3\n", None).expect("parses");
+        let r = parse("\u{feff}fs,100\nn,x,y,z\n0,1,2,3\n".as_bytes(), None).expect("parses");
         assert_eq!((r.fs, r.samples.len()), (100, 1));
     }
 
     #[test]
     fn a_single_sample_is_a_recording() {
         assert_eq!(
-            parse("n,x,y,z\n5,1,2,3\n", Some(100.0)).map(|r| r.samples.len()),
+            parse("n,x,y,z\n5,1,2,3\n".as_bytes(), Some(100.0)).map(|r| r.samples.len()),
             Ok(1)
         );
     }
