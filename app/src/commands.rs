@@ -16,7 +16,7 @@ use imu_core::protocol::{
 };
 use imu_core::Calibration;
 
-use crate::device::rate_accepted;
+use crate::device::unsupported;
 use crate::identity::FIRMWARE_VERSION;
 
 /// What the caller must do after a request.
@@ -201,10 +201,11 @@ impl Commands {
                 applied: false,
             });
         }
-        // The rate first: one the device cannot run also makes other settings fail (a 1 s
-        // calibration window at 7 Hz is too short), and the user set the rate, not those.
-        if !rate_accepted(staged.config.fs_hz, self.clock_hz) {
-            return Reply::error(ErrorCode::Unsupported(Key::FsHz));
+        // What the board cannot run first: a rate or resolution it cannot run also makes
+        // other settings fail (a 1 s calibration window at 7 Hz is too short), and the user
+        // set the rate, not those.
+        if let Some(key) = unsupported(&staged.config, self.clock_hz) {
+            return Reply::error(ErrorCode::Unsupported(key));
         }
         if let Err(e) = staged.validate() {
             return Reply::error(blame(error(e), pairs));

@@ -8,7 +8,7 @@
 //! tracker at every accepted rate: a board configuration that would fail at boot fails the
 //! build or the tests instead.
 
-use imu_core::profile::{Key, Profile};
+use imu_core::profile::{Key, Profile, Range};
 use imu_core::protocol::Source;
 use imu_core::Config;
 
@@ -20,6 +20,39 @@ pub const FS_MIN_HZ: u32 = 100;
 /// Highest accepted sampling rate [Hz]: a 3-channel scan at 112 + 12 ADC cycles of 24 MHz
 /// takes 15.5 us, so 20 kHz keeps the ADC 31 % idle.
 pub const FS_MAX_HZ: u32 = 20_000;
+
+/// The board's ADC resolution [bits]: the F411's ADC, scanned at 12 bits. The only
+/// `adc_bits` the device runs: its codes are 12-bit whatever the profile says, so 16 would
+/// put the upper rail where no code reaches (a clipped window is never seen), and 8 puts
+/// every code above the 255 rail (no window ever calibrates).
+pub const ADC_BITS: u8 = 12;
+
+/// The key of `config` this device cannot run with a sample clock of `clock_hz` [Hz], if any:
+/// the sampling rate ([`rate_accepted`]) first, then the resolution ([`ADC_BITS`]). Checked
+/// before the core's validation, whose refusals would otherwise name a key the user did not
+/// set (a 1 s window at 7 Hz is too short; 8 bits make the 10 g scale span under 2 g).
+pub fn unsupported(config: &Config, clock_hz: u32) -> Option<Key> {
+    if !rate_accepted(config.fs_hz, clock_hz) {
+        Some(Key::FsHz)
+    } else if config.adc_bits != ADC_BITS {
+        Some(Key::AdcBits)
+    } else {
+        None
+    }
+}
+
+/// The values `key` takes on this device with the rest of `profile`, in the key's unit: the
+/// core's [`Profile::range`], narrowed to the board's rates ([`FS_MIN_HZ`]`..=`[`FS_MAX_HZ`],
+/// which must also divide the sample clock) and its ADC's resolution ([`ADC_BITS`]). The
+/// host shows this table (`cargo lab device config get`) from the same code the firmware
+/// runs, so the two never disagree.
+pub fn range(profile: &Profile, key: Key) -> Option<Range> {
+    match key {
+        Key::FsHz => Some(Range::within(f64::from(FS_MIN_HZ), f64::from(FS_MAX_HZ))),
+        Key::AdcBits => Some(Range::within(f64::from(ADC_BITS), f64::from(ADC_BITS))),
+        _ => profile.range(key),
+    }
+}
 
 /// Whether the device runs at `fs_hz` [Hz] with a sample clock of `clock_hz` [Hz].
 pub const fn rate_accepted(fs_hz: u32, clock_hz: u32) -> bool {
@@ -77,16 +110,17 @@ pub fn wake_motion_lsb(m_s2_per_lsb: f64) -> u16 {
     ((crate::identity::WAKE_MOTION_M_S2 / m_s2_per_lsb) as u16).max(4)
 }
 
-/// The profile to start with: `loaded` if the device can run its sampling rate with a sample
-/// clock of `clock_hz` [Hz], else the defaults, reported as a stored profile that no longer
-/// validates at `fs_hz` (the core accepts rates the trigger timer cannot make).
+/// The profile to start with: `loaded` if the device can run it with a sample clock of
+/// `clock_hz` [Hz] ([`unsupported`]), else the defaults, reported as a stored profile that no
+/// longer validates, naming the key (the core accepts rates the trigger timer cannot make
+/// and resolutions the ADC does not have).
 pub fn runnable(loaded: Loaded, clock_hz: u32) -> Loaded {
-    if rate_accepted(loaded.profile.config.fs_hz, clock_hz) {
-        return loaded;
-    }
-    Loaded {
-        profile: Profile::default(),
-        source: Source::Invalid,
-        invalid: Some(Key::FsHz),
+    match unsupported(&loaded.profile.config, clock_hz) {
+        None => loaded,
+        Some(key) => Loaded {
+            profile: Profile::default(),
+            source: Source::Invalid,
+            invalid: Some(key),
+        },
     }
 }

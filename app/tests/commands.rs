@@ -165,9 +165,21 @@ fn a_set_is_staged_over_frames_and_applied_as_a_whole() {
 
 #[test]
 fn a_refused_set_names_the_key_and_changes_nothing() {
-    let cases: [(&[(Key, f64)], ErrorCode); 8] = [
+    let cases: [(&[(Key, f64)], ErrorCode); 11] = [
         (&[(Key::AdcBits, 12.5)], ErrorCode::Value(Key::AdcBits)),
-        (&[(Key::AdcBits, 1.0)], ErrorCode::Invalid(Key::AdcBits)),
+        // The board's ADC has 12 bits: any other resolution is the board's refusal, never a
+        // scale the core would then blame.
+        (&[(Key::AdcBits, 1.0)], ErrorCode::Unsupported(Key::AdcBits)),
+        (&[(Key::AdcBits, 8.0)], ErrorCode::Unsupported(Key::AdcBits)),
+        (
+            &[(Key::AdcBits, 16.0)],
+            ErrorCode::Unsupported(Key::AdcBits),
+        ),
+        // The rate is named before the resolution.
+        (
+            &[(Key::AdcBits, 16.0), (Key::FsHz, 7.0)],
+            ErrorCode::Unsupported(Key::FsHz),
+        ),
         (
             &[(Key::XAxis, 1.0), (Key::YAxis, 1.0)],
             ErrorCode::Invalid(Key::YAxis),

@@ -211,7 +211,7 @@ fn an_applied_set_reaches_the_tracker_the_status_and_the_mapping() {
     assert_eq!(effect, Default::default());
     assert_eq!(
         answers[0].1,
-        Response::Error(ErrorCode::Invalid(Key::AdcBits))
+        Response::Error(ErrorCode::Unsupported(Key::AdcBits))
     );
     assert_eq!(d.tracker.phase(), Phase::Tracking);
     assert!(d.status.calibration().is_some());
@@ -226,14 +226,11 @@ fn recalibrate_and_the_stream_are_carried_out() {
     assert_eq!(answers, [(3, Response::Done(code::RECALIBRATE))]);
     assert_eq!(d.tracker.phase(), Phase::Calibrating);
 
-    d.ask(4, &set(&[(Key::AdcBits, 16.0)]));
+    // The board's 12-bit codes stream in narrow frames (wide ones are `stream.rs`'s test).
     d.ask(5, &Request::StreamStart);
     assert!(d.stream.on());
-    d.stream.push(&[[60_000, 1, 2]; 3], 0);
-    assert!(
-        d.stream.frame().expect("queued").wide,
-        "16-bit ADC: wide frames"
-    );
+    d.stream.push(&[[4095, 1, 2]; 3], 0);
+    assert!(!d.stream.frame().expect("queued").wide, "12-bit ADC");
     let (_, answers) = d.ask(6, &Request::StreamStop);
     assert!(!d.stream.on());
     assert_eq!(answers, [(6, Response::Stopped { frames: 0, lost: 0 })]);

@@ -89,3 +89,60 @@ fn the_watchdog_is_shortest_at_the_fastest_lsi() {
     );
     assert!(f64::from(WATCHDOG_MIN_MS) <= fastest);
 }
+
+#[test]
+fn a_stored_profile_the_board_cannot_run_starts_the_defaults_naming_the_key() {
+    use imu_app::store::Loaded;
+    use imu_core::profile::{Key, Profile};
+    use imu_core::protocol::Source;
+    let stored = |key: Key, value: f64| {
+        let mut profile = Profile::default();
+        profile.set(key, value).expect("fits the key");
+        assert_eq!(profile.validate(), Ok(()), "the core takes {key} = {value}");
+        Loaded {
+            profile,
+            source: Source::Stored,
+            invalid: None,
+        }
+    };
+    // The core takes both; the board's timer cannot make 7 kHz and its ADC has 12 bits.
+    for (key, value) in [(Key::FsHz, 7000.0), (Key::AdcBits, 16.0)] {
+        let l = device::runnable(stored(key, value), CLOCK_HZ);
+        assert_eq!((l.source, l.invalid), (Source::Invalid, Some(key)), "{key}");
+        assert_eq!(l.profile, Profile::default());
+    }
+    let ok = device::runnable(stored(Key::CountsPerInch, 1600.0), CLOCK_HZ);
+    assert_eq!((ok.source, ok.invalid), (Source::Stored, None));
+    assert_eq!(ok.profile.config.counts_per_inch, 1600);
+}
+
+#[test]
+fn the_device_s_key_table_is_the_core_s_narrowed_to_the_board() {
+    use imu_core::profile::{Key, Profile, Range};
+    let p = Profile::default();
+    assert_eq!(
+        device::range(&p, Key::FsHz),
+        Some(Range::within(100.0, 20_000.0))
+    );
+    assert_eq!(
+        device::range(&p, Key::AdcBits),
+        Some(Range::within(12.0, 12.0))
+    );
+    // Every rate and resolution in the table's range that the clock divides is one the
+    // device runs, and none outside it.
+    for fs in [99, 100, 20_000, 20_001] {
+        let mut q = p;
+        q.config.fs_hz = fs;
+        let inside = device::range(&p, Key::FsHz).is_some_and(|r| r.contains(f64::from(fs)));
+        assert_eq!(
+            device::unsupported(&q.config, CLOCK_HZ).is_none(),
+            inside,
+            "{fs} Hz"
+        );
+    }
+    for k in Key::ALL {
+        if !matches!(k, Key::FsHz | Key::AdcBits) {
+            assert_eq!(device::range(&p, k), p.range(k), "{k}");
+        }
+    }
+}

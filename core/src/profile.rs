@@ -133,7 +133,8 @@ pub enum Kind {
 }
 
 macro_rules! keys {
-    ($( $(#[$doc:meta])* $variant:ident = $id:literal, $name:literal, $kind:expr; )*) => {
+    ($( $(#[$doc:meta])* $variant:ident = $id:literal, $name:literal, $kind:expr, $unit:literal,
+        $about:literal; )*) => {
         /// A settable value of the [`Profile`]. The id (the enum's value) is stable: it is on
         /// the wire and in flash.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -168,6 +169,20 @@ macro_rules! keys {
                     $( Key::$variant => $kind, )*
                 }
             }
+
+            /// The unit of the key's value (`""` for a word, a flag, an index or a sign).
+            pub const fn unit(self) -> &'static str {
+                match self {
+                    $( Key::$variant => $unit, )*
+                }
+            }
+
+            /// What the key does, in one line for a user (`config get` shows it).
+            pub const fn about(self) -> &'static str {
+                match self {
+                    $( Key::$variant => $about, )*
+                }
+            }
         }
     };
 }
@@ -179,49 +194,157 @@ const U32: Kind = Kind::Integer {
 
 keys! {
     /// Sampling rate [Hz] (`Config::fs_hz`).
-    FsHz = 1, "fs_hz", U32;
+    FsHz = 1, "fs_hz", U32, "Hz",
+        "sampling rate of each axis; a board takes only the rates its timer divides exactly";
     /// Digital low-pass cut-off [Hz], off = no filter.
-    LowpassFcHz = 2, "lowpass_fc_hz", Kind::Optional;
+    LowpassFcHz = 2, "lowpass_fc_hz", Kind::Optional, "Hz",
+        "single-pole low-pass before the integration (between 1e-6 fs and fs/2), or off";
     /// Acceleration per ADC code [m/s^2].
-    MS2PerLsb = 3, "m_s2_per_lsb", Kind::Real;
+    MS2PerLsb = 3, "m_s2_per_lsb", Kind::Real, "m/s^2",
+        "acceleration per ADC code; its full scale (times 2^adc_bits) must be 2 to 1000 g";
     /// ADC resolution [bits].
-    AdcBits = 4, "adc_bits", Kind::Integer { min: 0, max: 255 };
+    AdcBits = 4, "adc_bits", Kind::Integer { min: 0, max: 255 }, "bits",
+        "ADC resolution; a board takes only its own ADC's";
     /// Mouse resolution [counts per inch].
-    CountsPerInch = 5, "counts_per_inch", U32;
+    CountsPerInch = 5, "counts_per_inch", U32, "counts/inch",
+        "mouse resolution: cursor counts per inch the hand moves";
     /// Integration scheme: 0 Euler, 1 trapezoid.
-    Scheme = 6, "scheme", Kind::Integer { min: 0, max: 1 };
+    Scheme = 6, "scheme", Kind::Integer { min: 0, max: 1 }, "",
+        "double integration: euler or trapezoid";
     /// Calibration window [s].
-    CalibrationS = 7, "calibration_s", Kind::Real;
+    CalibrationS = 7, "calibration_s", Kind::Real, "s",
+        "still window averaged into the zero at start-up and recalibration (16 samples or more)";
     /// Largest rms noise accepted as at rest [m/s^2].
-    RestNoiseMaxMS2 = 8, "rest_noise_max_m_s2", Kind::Real;
+    RestNoiseMaxMS2 = 8, "rest_noise_max_m_s2", Kind::Real, "m/s^2 rms",
+        "noisiest calibration window still taken as rest";
     /// Drift control on (1) or off (0).
-    Drift = 9, "drift", Kind::Flag;
+    Drift = 9, "drift", Kind::Flag, "",
+        "drift control: stillness, zero-velocity updates, zero tracking (on or off)";
     /// Drift control: mean time at rest between false starts [device-hours].
-    FalseStartHours = 40, "drift.false_start_hours", Kind::Real;
+    FalseStartHours = 40, "drift.false_start_hours", Kind::Real, "device-hours",
+        "mean time at rest between two false starts of the cursor";
     /// Drift control: hold of young motion [s].
-    HoldS = 11, "drift.hold_s", Kind::Real;
+    HoldS = 11, "drift.hold_s", Kind::Real, "s",
+        "young motion held back until it is confirmed";
     /// Drift control: lowest frequency of a knock's ring or a machine's vibration [Hz].
-    KnockHz = 41, "drift.knock_hz", Kind::Real;
+    KnockHz = 41, "drift.knock_hz", Kind::Real, "Hz",
+        "lowest frequency of a knock's ring or a machine's vibration, not taken as motion";
     /// Drift control: the longest stroke of a hand [s].
-    StrokeMaxS = 42, "drift.stroke_max_s", Kind::Real;
+    StrokeMaxS = 42, "drift.stroke_max_s", Kind::Real, "s",
+        "longest stroke of a hand";
     /// Drift control: the longest glide of a drag [s].
-    GlideMaxS = 45, "drift.glide_max_s", Kind::Real;
+    GlideMaxS = 45, "drift.glide_max_s", Kind::Real, "s",
+        "longest glide of a drag at steady speed";
     /// Drift control: the slowest lift's rise [s], off = no lift detection.
-    LiftRiseS = 43, "drift.lift_rise_s", Kind::Optional;
+    LiftRiseS = 43, "drift.lift_rise_s", Kind::Optional, "s",
+        "slowest rise of a lift, or off for no lift detection";
     /// Drift control: mounting tilt and cross-axis allowance [degrees].
-    MountTiltDeg = 44, "drift.mount_tilt_deg", Kind::Real;
+    MountTiltDeg = 44, "drift.mount_tilt_deg", Kind::Real, "degrees",
+        "mounting tilt and cross-axis allowance of the sensor";
     /// Drift control: zero tracking time constant [s], off = none.
-    BiasTauS = 22, "drift.bias_tau_s", Kind::Optional;
+    BiasTauS = 22, "drift.bias_tau_s", Kind::Optional, "s",
+        "time constant of zero tracking at rest, or off";
     /// Drift control: motion suppressed after a click [s].
-    ClickFreezeS = 23, "drift.click_freeze_s", Kind::Real;
+    ClickFreezeS = 23, "drift.click_freeze_s", Kind::Real, "s",
+        "motion suppressed after a click";
     /// Sensor axis that moves the cursor right (0 X, 1 Y, 2 Z).
-    XAxis = 30, "x_axis", Kind::Integer { min: 0, max: 2 };
+    XAxis = 30, "x_axis", Kind::Integer { min: 0, max: 2 }, "",
+        "sensor axis that moves the cursor right: 0 X, 1 Y, 2 Z";
     /// +1, or -1 if that axis's positive direction moves the cursor left.
-    XSign = 31, "x_sign", Kind::Sign;
+    XSign = 31, "x_sign", Kind::Sign, "",
+        "1, or -1 if that axis's positive direction moves the cursor left";
     /// Sensor axis that moves the cursor up (0 X, 1 Y, 2 Z).
-    YAxis = 32, "y_axis", Kind::Integer { min: 0, max: 2 };
+    YAxis = 32, "y_axis", Kind::Integer { min: 0, max: 2 }, "",
+        "sensor axis that moves the cursor up (the hand away from the user): 0 X, 1 Y, 2 Z";
     /// +1, or -1 if that axis's positive direction moves the cursor down.
-    YSign = 33, "y_sign", Kind::Sign;
+    YSign = 33, "y_sign", Kind::Sign, "",
+        "1, or -1 if that axis's positive direction moves the cursor down";
+}
+
+/// The values a key takes given the rest of a profile ([`Profile::range`]), in the key's
+/// unit: `min..=max`, either end possibly excluded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Range {
+    /// The smallest value.
+    pub min: f64,
+    /// Whether `min` itself is excluded.
+    pub min_excluded: bool,
+    /// The largest value.
+    pub max: f64,
+    /// Whether `max` itself is excluded.
+    pub max_excluded: bool,
+}
+
+impl Range {
+    /// `min..=max`, both ends included.
+    pub const fn within(min: f64, max: f64) -> Self {
+        Self {
+            min,
+            min_excluded: false,
+            max,
+            max_excluded: false,
+        }
+    }
+
+    /// Whether `v` lies in the range (NaN does not).
+    pub fn contains(&self, v: f64) -> bool {
+        let above = if self.min_excluded {
+            v > self.min
+        } else {
+            v >= self.min
+        };
+        let below = if self.max_excluded {
+            v < self.max
+        } else {
+            v <= self.max
+        };
+        above && below
+    }
+}
+
+impl fmt::Display for Range {
+    /// As `0.2..=2.4`, in words where an end is excluded: `0.003 to below 1500`, `above 0,
+    /// up to 9.80665`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (lo, hi) = (Shown(self.min), Shown(self.max));
+        match (self.min_excluded, self.max_excluded) {
+            (false, false) => write!(f, "{lo}..={hi}"),
+            (false, true) => write!(f, "{lo} to below {hi}"),
+            (true, false) => write!(f, "above {lo}, up to {hi}"),
+            (true, true) => write!(f, "above {lo}, below {hi}"),
+        }
+    }
+}
+
+/// A number as a person reads it in a message: plainly from 1e-4 to below 1e7 (and 0),
+/// in exponent form outside (`1e9`, not `1000000000`), with at most 6 significant digits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shown(pub f64);
+
+impl fmt::Display for Shown {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0;
+        let a = libm::fabs(v);
+        if !(v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&a)) {
+            return write!(f, "{v:e}");
+        }
+        // Six significant digits, trailing zeros dropped: 0.023942 stays, 1/3 is 0.333333.
+        let digits = if v == 0.0 || !v.is_finite() {
+            0
+        } else {
+            (5 - libm::floor(libm::log10(a)) as i32).clamp(0, 9) as usize
+        };
+        let mut buf = heapless::String::<32>::new();
+        if fmt::write(&mut buf, format_args!("{v:.digits$}")).is_err() {
+            return write!(f, "{v}");
+        }
+        let s = if buf.contains('.') {
+            buf.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            buf.as_str()
+        };
+        f.write_str(s)
+    }
 }
 
 impl Key {
@@ -434,19 +557,75 @@ impl Profile {
         Ok(())
     }
 
+    /// The values `key` takes with the rest of this profile as it is, in the key's unit
+    /// ([`Key::unit`]); `None` for a flag or a sign, whose values [`Kind`] lists. The range
+    /// depends on the other keys where the core's validation does: the low-pass cut-off and
+    /// the calibration window on `fs_hz`, the scale on `adc_bits` (each taken within its
+    /// own range). Other limits that join keys are not ranges and are stated by
+    /// [`Key::about`] and the error: the two cursor axes differ; `drift.knock_hz`'s filter
+    /// fits the tick ring; `counts_per_inch` with the scale and rate gives a read-out ratio.
+    pub fn range(&self, key: Key) -> Option<Range> {
+        use crate::config::{
+            CALIBRATION_SAMPLES_MIN, CALIBRATION_S_MAX, COUNTS_PER_INCH_MAX, FC_OVER_FS_MIN,
+            FS_MAX_HZ, FS_MIN_HZ, FULL_SCALE_MAX_M_S2, FULL_SCALE_MIN_M_S2, REST_NOISE_MAX_M_S2,
+        };
+        use crate::drift::range as d;
+        let fs = f64::from(self.config.fs_hz.clamp(FS_MIN_HZ, FS_MAX_HZ));
+        let codes = f64::from(1u32 << self.config.adc_bits.clamp(2, 16));
+        let pair = |(lo, hi): (f64, f64)| Some(Range::within(lo, hi));
+        match key {
+            Key::FsHz => pair((f64::from(FS_MIN_HZ), f64::from(FS_MAX_HZ))),
+            Key::LowpassFcHz => Some(Range {
+                max_excluded: true,
+                ..Range::within(FC_OVER_FS_MIN * fs, fs / 2.0)
+            }),
+            Key::MS2PerLsb => pair((FULL_SCALE_MIN_M_S2 / codes, FULL_SCALE_MAX_M_S2 / codes)),
+            Key::AdcBits => pair((2.0, 16.0)),
+            Key::CountsPerInch => pair((1.0, f64::from(COUNTS_PER_INCH_MAX))),
+            Key::CalibrationS => pair((f64::from(CALIBRATION_SAMPLES_MIN) / fs, CALIBRATION_S_MAX)),
+            Key::RestNoiseMaxMS2 => Some(Range {
+                min_excluded: true,
+                ..Range::within(0.0, REST_NOISE_MAX_M_S2)
+            }),
+            Key::FalseStartHours => pair(d::FALSE_START_HOURS),
+            Key::HoldS => pair(d::HOLD_S),
+            Key::KnockHz => pair(d::KNOCK_HZ),
+            Key::StrokeMaxS => pair(d::STROKE_MAX_S),
+            Key::GlideMaxS => pair(d::GLIDE_MAX_S),
+            Key::LiftRiseS => pair(d::LIFT_RISE_S),
+            Key::MountTiltDeg => pair(d::MOUNT_TILT_DEG),
+            Key::BiasTauS => Some(Range {
+                max_excluded: true,
+                ..Range::within(d::BIAS_TAU_S.0, d::BIAS_TAU_S.1)
+            }),
+            Key::ClickFreezeS => pair(d::CLICK_FREEZE_S),
+            Key::Scheme | Key::XAxis | Key::YAxis => match key.kind() {
+                Kind::Integer { min, max } => pair((f64::from(min), f64::from(max))),
+                _ => None,
+            },
+            Key::Drift | Key::XSign | Key::YSign => None,
+        }
+    }
+
     /// Checks the whole profile: the axis mapping and the tracker's configuration.
     ///
     /// # Errors
     /// [`ProfileError::SameAxis`], or [`ProfileError::Invalid`] with the first invalid field
-    /// of the configuration.
+    /// of the configuration, or of drift control's kept parameters while it is off.
     pub fn validate(&self) -> Result<(), ProfileError> {
         if !self.map.is_valid() {
             return Err(ProfileError::SameAxis);
         }
-        self.config
-            .validate()
-            .map(|_| ())
-            .map_err(ProfileError::Invalid)
+        self.config.validate().map_err(ProfileError::Invalid)?;
+        // Drift control's parameters are kept while it is off, for when it is turned on
+        // again: they are held to their ranges all the same, so that `drift=on` never fails
+        // on a value set long before.
+        if self.config.drift.is_none() {
+            self.drift
+                .validate(self.config.fs_hz, self.config.m_s2_per_lsb)
+                .map_err(|e| ProfileError::Invalid(ConfigError::Drift(e)))?;
+        }
+        Ok(())
     }
 
     /// The stored record: [`RECORD_FORMAT`], the key count, then `(id, value as f64 LE)`

@@ -63,9 +63,11 @@ fn each_bad_field_is_named() {
             ConfigError::Scale,
         );
     }
-    // At 1 bit every code is a rail: no calibration could succeed. 2 bits is the least.
+    // At 1 bit every code is a rail: no calibration could succeed. 2 bits is the least
+    // (with a scale that spans at least 2 g in its 4 codes).
     assert!(Config {
         adc_bits: 2,
+        m_s2_per_lsb: 5.0,
         ..cfg()
     }
     .validate()
@@ -353,21 +355,31 @@ fn out_of_range_bias_is_clamped_not_wrapped() {
 }
 
 #[test]
-fn readout_ratio_at_the_top_of_its_range_is_refused() {
-    // counts_per_inch so large that one position unit is ~2^31 counts: a configuration
-    // error, never a shift of 0 (which the read-out cannot use).
-    let huge = Config {
-        fs_hz: 1,
-        counts_per_inch: u32::MAX,
-        m_s2_per_lsb: 1e4, // 1e4 * 4.29e9 / (0.0254 * 2^18) = 6.4e9 counts per unit
-        ..cfg()
-    };
-    assert_eq!(
-        huge.validate().err(),
-        Some(ConfigError::CountsPerInch {
-            counts_per_inch: u32::MAX
-        })
-    );
+fn the_readout_ratio_fits_at_every_corner_of_the_keys_ranges() {
+    // Counts per position unit = m_s2_per_lsb / (2^18 fs^2) * counts_per_inch / 0.0254. Within
+    // the ranges of the rate, the full scale and the resolution it stays inside the read-out's
+    // [2^-63, 2^31): from 4.5e-18 (2 g over 16 bits at 100 kHz, 1 count per inch) to 9.4e3
+    // (1000 g over 2 bits at 1 Hz, 25 400 counts per inch). So the resolution's own range is
+    // the whole of its limit, and the read-out's refusal (its unit tests) is never reached
+    // from a profile.
+    let g = 9.806_65;
+    for (fs_hz, adc_bits, full_scale_g, counts_per_inch) in [
+        (100_000, 16, 2.0, 1),
+        (1, 2, 1000.0, 25_400),
+        (100_000, 2, 1000.0, 25_400),
+        (1, 16, 2.0, 1),
+    ] {
+        let c = Config {
+            fs_hz,
+            adc_bits,
+            m_s2_per_lsb: full_scale_g * g / f64::from(1u32 << adc_bits),
+            counts_per_inch,
+            calibration_s: 16.0,
+            drift: None,
+            ..cfg()
+        };
+        assert!(c.validate().is_ok(), "{c:?}: {:?}", c.validate());
+    }
 }
 
 #[test]

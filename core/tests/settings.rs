@@ -43,22 +43,28 @@ fn settings_carry_what_was_configured() {
 
 #[test]
 fn calibration_window_edges() {
-    // The window is round(calibration_s fs) samples, 16 to 2^24: 15.5 rounds up to 16 and
-    // is accepted, 15.49 is not; at fs = 1 Hz, 2^24 + 0.49 is accepted, 2^24 + 0.5 is not.
+    // The window holds at least 16 samples (16 / fs, a part in 1e12 of rounding allowed) and
+    // lasts at most 60 s, which at the fastest rate is 6e6 samples, inside the calibrator's
+    // 2^24.
     let window = |fs_hz: u32, calibration_s: f64| {
         Config {
             fs_hz,
             calibration_s,
+            drift: None,
             ..cfg()
         }
         .validate()
         .map(|s| s.fs_hz())
     };
-    assert!(window(1000, 0.0155).is_ok());
-    assert_eq!(window(1000, 0.01549), Err(ConfigError::CalibrationWindow));
-    let top = f64::from(1u32 << 24);
-    assert!(window(1, top + 0.49).is_ok());
-    assert_eq!(window(1, top + 0.5), Err(ConfigError::CalibrationWindow));
+    assert!(window(1000, 0.016).is_ok());
+    assert!(window(3000, 16.0 / 3000.0).is_ok());
+    assert_eq!(
+        window(1000, 0.016 * (1.0 - 1e-9)),
+        Err(ConfigError::CalibrationWindow)
+    );
+    assert!(window(100_000, 60.0).is_ok());
+    assert_eq!(window(1, 60.000_001), Err(ConfigError::CalibrationWindow));
+    assert_eq!(window(1, 1000.0), Err(ConfigError::CalibrationWindow));
 }
 
 #[test]
@@ -83,20 +89,32 @@ fn rest_bound_is_a_variance_of_the_rms_squared() {
 }
 
 #[test]
-fn rest_bound_beyond_16_bit_codes_is_refused() {
-    // 2^23 LSB rms is meaningless for codes of at most 16 bits, and its Q16 variance would
-    // not fit the calibrator: refused at the edge, accepted just below.
-    let lsb = cfg().m_s2_per_lsb;
-    let bound = |lsbs: f64| {
+fn rest_bound_is_at_most_one_g_and_fits_the_calibrator_on_the_finest_scale() {
+    // A window whose noise is 1 g rms is no rest: refused above it. On the finest scale a
+    // profile takes (2 g over 16 bits) 1 g is 2^15 LSB, whose Q16 variance fits the
+    // calibrator's u64 with room (it overflows only from 2^23 LSB).
+    let bound = |rest_noise_max_m_s2: f64, adc_bits: u8, m_s2_per_lsb: f64| {
         Config {
-            rest_noise_max_m_s2: lsbs * lsb,
+            rest_noise_max_m_s2,
+            adc_bits,
+            m_s2_per_lsb,
             ..cfg()
         }
         .validate()
         .map(|_| ())
     };
-    assert_eq!(bound(8_388_608.0), Err(ConfigError::RestNoise));
-    assert!(bound(8_388_607.0).is_ok());
+    let g = 9.806_65;
+    let finest = 2.0 * g / 65_536.0;
+    assert!(bound(g, 16, finest).is_ok());
+    assert_eq!(
+        bound(g * (1.0 + 1e-9), 16, finest),
+        Err(ConfigError::RestNoise)
+    );
+    assert_eq!(
+        bound(0.0, 12, cfg().m_s2_per_lsb),
+        Err(ConfigError::RestNoise)
+    );
+    assert!(bound(1e-9, 12, cfg().m_s2_per_lsb).is_ok());
 }
 
 #[test]

@@ -117,7 +117,14 @@ fn every_command_works_and_a_saved_profile_survives_a_restart() {
 
     // Refused: the key is named and nothing changed.
     for (pairs, want) in [
-        (vec![(Key::AdcBits, 1.0)], ErrorCode::Invalid(Key::AdcBits)),
+        (
+            vec![(Key::AdcBits, 16.0)],
+            ErrorCode::Unsupported(Key::AdcBits),
+        ),
+        (
+            vec![(Key::CountsPerInch, 1e9)],
+            ErrorCode::Invalid(Key::CountsPerInch),
+        ),
         (
             vec![(Key::CountsPerInch, 3200.0), (Key::FsHz, 7000.0)],
             ErrorCode::Unsupported(Key::FsHz),

@@ -207,6 +207,30 @@ impl Default for Tuning {
     }
 }
 
+/// The documented range of each of drift control's parameters, inclusive, in the field's
+/// unit ([`Drift`] says why each bound is where it is). [`Drift::validate`] checks them and
+/// the device's key table ([`crate::profile::Profile::range`]) shows them.
+pub mod range {
+    /// `false_start_hours` [device-hours].
+    pub const FALSE_START_HOURS: (f64, f64) = (1.0, 1e9);
+    /// `hold_s` [s].
+    pub const HOLD_S: (f64, f64) = (0.0, 0.1);
+    /// `knock_hz` [Hz] (and its filter must fit the tick ring at the rate).
+    pub const KNOCK_HZ: (f64, f64) = (5.0, 200.0);
+    /// `stroke_max_s` [s].
+    pub const STROKE_MAX_S: (f64, f64) = (0.2, 2.4);
+    /// `glide_max_s` [s].
+    pub const GLIDE_MAX_S: (f64, f64) = (0.0, 60.0);
+    /// `lift_rise_s` [s], when on.
+    pub const LIFT_RISE_S: (f64, f64) = (0.05, 0.5);
+    /// `mount_tilt_deg` [degrees].
+    pub const MOUNT_TILT_DEG: (f64, f64) = (0.0, 30.0);
+    /// `bias_tau_s` [s], when on; the top is excluded.
+    pub const BIAS_TAU_S: (f64, f64) = (0.2, 1e6);
+    /// `click_freeze_s` [s].
+    pub const CLICK_FREEZE_S: (f64, f64) = (0.0, 2.0);
+}
+
 /// A [`Drift`] field that failed validation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -235,20 +259,29 @@ pub enum DriftError {
 
 impl fmt::Display for DriftError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Self::FalseStart => "drift.false_start_hours: must be within 1..=1e9 device-hours",
-            Self::Hold => "drift.hold_s: must be within 0..=0.1 s",
-            Self::Knock => "drift.knock_hz: must be within 5..=200 Hz (and its filter fit 320 ms)",
-            Self::Stroke => "drift.stroke_max_s: must be within 0.2..=2.4 s",
-            Self::Glide => "drift.glide_max_s: must be within 0..=60 s",
-            Self::Lift => "drift.lift_rise_s: must be within 0.05..=0.5 s, or off",
-            Self::MountTilt => "drift.mount_tilt_deg: must be within 0..=30 degrees",
-            Self::BiasTau => "drift.bias_tau_s: must be at least 0.2 s and below 1e6 s, or off",
-            Self::ClickFreeze => "drift.click_freeze_s: must be within 0..=2 s",
+        use range::*;
+        let (name, (lo, hi), unit, tail) = match self {
+            Self::FalseStart => ("false_start_hours", FALSE_START_HOURS, " device-hours", ""),
+            Self::Hold => ("hold_s", HOLD_S, " s", ""),
+            Self::Knock => ("knock_hz", KNOCK_HZ, " Hz", " (and its filter fit 320 ms)"),
+            Self::Stroke => ("stroke_max_s", STROKE_MAX_S, " s", ""),
+            Self::Glide => ("glide_max_s", GLIDE_MAX_S, " s", ""),
+            Self::Lift => ("lift_rise_s", LIFT_RISE_S, " s", ", or off"),
+            Self::MountTilt => ("mount_tilt_deg", MOUNT_TILT_DEG, " degrees", ""),
+            Self::BiasTau => {
+                let (lo, hi) = BIAS_TAU_S;
+                return write!(
+                    f,
+                    "drift.bias_tau_s: must be at least {lo} s and below {hi:e} s, or off"
+                );
+            }
+            Self::ClickFreeze => ("click_freeze_s", CLICK_FREEZE_S, " s", ""),
             Self::Tuning(field) => {
                 return write!(f, "drift.tuning.{field}: outside its documented range")
             }
-        })
+        };
+        let hi = crate::profile::Shown(hi);
+        write!(f, "drift.{name}: must be within {lo}..={hi}{unit}{tail}")
     }
 }
 
@@ -399,6 +432,7 @@ impl Drift {
     /// The first invalid field.
     pub fn validate(&self, fs_hz: u32, m_s2_per_lsb: f64) -> Result<DriftSettings, DriftError> {
         use crate::math::round_to_u64 as round;
+        use range::*;
         let _ = m_s2_per_lsb; // every threshold is in sd of the measured noise
         let within = |v: f64, lo: f64, hi: f64| v.is_finite() && v >= lo && v <= hi;
         let t = &self.tuning;
@@ -407,13 +441,17 @@ impl Drift {
         let tick = tick_samples(fs_hz);
         let tick_s = f64::from(tick) / fs;
         let f_tick = 1.0 / tick_s;
-        if !within(self.false_start_hours, 1.0, 1e9) {
+        if !within(
+            self.false_start_hours,
+            FALSE_START_HOURS.0,
+            FALSE_START_HOURS.1,
+        ) {
             return Err(DriftError::FalseStart);
         }
-        if !within(self.hold_s, 0.0, 0.1) {
+        if !within(self.hold_s, HOLD_S.0, HOLD_S.1) {
             return Err(DriftError::Hold);
         }
-        if !within(self.knock_hz, 5.0, 200.0) {
+        if !within(self.knock_hz, KNOCK_HZ.0, KNOCK_HZ.1) {
             return Err(DriftError::Knock);
         }
         // The hand-band filter: boxcars of 1 / knock_hz (a null there) and two thirds of it
@@ -423,7 +461,7 @@ impl Drift {
         if (l1 + l2) as usize > RING - 2 {
             return Err(DriftError::Knock);
         }
-        if !within(self.stroke_max_s, 0.2, 2.4) {
+        if !within(self.stroke_max_s, STROKE_MAX_S.0, STROKE_MAX_S.1) {
             return Err(DriftError::Stroke);
         }
         let block = round(BLOCK_S / tick_s).max(1) as u32;
@@ -443,12 +481,12 @@ impl Drift {
         if looked_back.into_iter().max().unwrap_or(0) >= BLOCKS as u32 {
             return Err(DriftError::Stroke);
         }
-        if !within(self.glide_max_s, 0.0, 60.0) {
+        if !within(self.glide_max_s, GLIDE_MAX_S.0, GLIDE_MAX_S.1) {
             return Err(DriftError::Glide);
         }
         let lift = match self.lift_rise_s {
             None => None,
-            Some(r) if within(r, 0.05, 0.5) => Some(
+            Some(r) if within(r, LIFT_RISE_S.0, LIFT_RISE_S.1) => Some(
                 lift::LiftSettings::new(
                     r * t.lift_window,
                     self.knock_hz,
@@ -461,15 +499,17 @@ impl Drift {
             ),
             Some(_) => return Err(DriftError::Lift),
         };
-        if !within(self.mount_tilt_deg, 0.0, 30.0) {
+        if !within(self.mount_tilt_deg, MOUNT_TILT_DEG.0, MOUNT_TILT_DEG.1) {
             return Err(DriftError::MountTilt);
         }
         let bias_samples_max = match self.bias_tau_s {
             None => None,
-            Some(tau) if within(tau, 0.2, 1e6) && tau < 1e6 => Some(round(tau * fs).max(1)),
+            Some(tau) if within(tau, BIAS_TAU_S.0, BIAS_TAU_S.1) && tau < BIAS_TAU_S.1 => {
+                Some(round(tau * fs).max(1))
+            }
             Some(_) => return Err(DriftError::BiasTau),
         };
-        if !within(self.click_freeze_s, 0.0, 2.0) {
+        if !within(self.click_freeze_s, CLICK_FREEZE_S.0, CLICK_FREEZE_S.1) {
             return Err(DriftError::ClickFreeze);
         }
 

@@ -49,6 +49,35 @@ pub struct Row {
 /// Fewer segments than this give an interval too wide to judge a law by (the table says so).
 pub const FEW_SEGMENTS: usize = 10;
 
+/// A refusal of the core's, in the experiment's arguments: the user gave `--calibrate-s`
+/// and `--scale`, not the core's keys.
+fn argument(e: imu_core::ConfigError, c: &Config) -> String {
+    use imu_core::config::{
+        ConfigError, CALIBRATION_SAMPLES_MIN, CALIBRATION_S_MAX, FULL_SCALE_MAX_M_S2,
+        FULL_SCALE_MIN_M_S2,
+    };
+    use imu_core::profile::Shown as Num;
+    let codes = f64::from(1u32 << c.adc_bits);
+    match e {
+        ConfigError::CalibrationWindow => format!(
+            "--calibrate-s {}: the window must hold at least {CALIBRATION_SAMPLES_MIN} samples \
+             ({} s at {} Hz) and last at most {CALIBRATION_S_MAX} s",
+            Num(c.calibration_s),
+            Num(f64::from(CALIBRATION_SAMPLES_MIN) / f64::from(c.fs_hz)),
+            c.fs_hz
+        ),
+        ConfigError::Scale => format!(
+            "--scale {}: the experiment runs the core on {}-bit codes, so the scale must be \
+             {}..={} m/s^2 per count (a full scale of 2 to 1000 g)",
+            Num(c.m_s2_per_lsb),
+            c.adc_bits,
+            Num(FULL_SCALE_MIN_M_S2 / codes),
+            Num(FULL_SCALE_MAX_M_S2 / codes)
+        ),
+        other => other.to_string(),
+    }
+}
+
 /// Runs the experiment on counts `raw` (one vector per axis) at `fs` with `scale`
 /// [m/s^2 per count].
 ///
@@ -92,11 +121,12 @@ pub fn experiment(
         m_s2_per_lsb: scale,
         adc_bits: 16,
         calibration_s: calibrate_s,
-        rest_noise_max_m_s2: scale * 1e6,
+        // The recording is at rest by construction: every window is taken as rest.
+        rest_noise_max_m_s2: imu_core::config::REST_NOISE_MAX_M_S2,
         drift: None,
         ..Config::default()
     };
-    let settings = config.validate().map_err(|e| e.to_string())?;
+    let settings = config.validate().map_err(|e| argument(e, &config))?;
     let signed = raw.iter().flatten().any(|&v| v < 0.0);
     let offset = if signed { 32_768.0 } else { 0.0 };
     let to_code = |v: f64| -> Result<AdcCode, String> {
