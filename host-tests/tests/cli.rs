@@ -251,11 +251,102 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
         );
         std::thread::sleep(std::time::Duration::from_millis(200));
     }
-    for (cmd, what) in [("save", "saved"), ("recalibrate", "recalibrating")] {
+    for (cmd, what) in [("save", "saved"), ("recalibrate", "recalibrated")] {
         let out = device(&["--json", cmd]);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON alone");
         assert_eq!(v["done"], what, "{cmd}");
     }
+    // Recalibrate waits for the window and shows the new zero: the rest scene's codes sit
+    // near mid-scale, 2048.
+    let out = device(&["recalibrate"]);
+    let said = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(said.starts_with("recalibrated in "), "{said}");
+    let zero: f64 = said
+        .split("cursor x: zero ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|z| z.parse().ok())
+        .expect("a zero for cursor x");
+    assert!((zero - 2048.0).abs() < 5.0, "{said}");
+    // Each refusal names the key typed, what it takes here and why, with status 2.
+    for (pair, says) in [
+        (
+            "counts_per_inch=1e9",
+            "counts_per_inch takes 1..=25400 counts/inch",
+        ),
+        (
+            "m_s2_per_lsb=1e30",
+            "m_s2_per_lsb takes 0.0047884..=2.3942 m/s^2",
+        ),
+        (
+            "calibration_s=1000",
+            "calibration_s takes 0.00533333..=60 s",
+        ),
+        ("adc_bits=16", "this board's ADC has 12 bits"),
+        ("lowpass_fc_hz=2000", "0.003 to below 1500 Hz, or off"),
+        (
+            "fs_hz=7000",
+            "100..=20000 Hz, at rates that divide its 96 MHz clock",
+        ),
+    ] {
+        let out = device(&["config", "set", pair]);
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{pair}: {err}");
+        assert!(
+            err.starts_with(&format!(
+                "error: config set: {pair} refused by the device: "
+            )) && err.contains(says),
+            "{pair}: {err}"
+        );
+    }
+    // The table: every key with its value, unit, what it takes and what it does.
+    let table = text(&device(&["config", "get"]).stdout);
+    assert!(
+        table.lines().any(|l| l.starts_with("counts_per_inch ")
+            && l.contains("counts/inch")
+            && l.contains("1..=25400")
+            && l.contains("mouse resolution")),
+        "{table}"
+    );
+    // A profile saved to a file and set from it, a key on the command line changing it.
+    let profile = std::env::temp_dir().join(format!("imu-cli-{}-profile.json", std::process::id()));
+    let got = device(&["--json", "config", "get"]);
+    let saved: serde_json::Value = serde_json::from_slice(&got.stdout).expect("JSON");
+    assert_eq!(saved["scheme"], "euler");
+    assert_eq!(saved["drift"], true);
+    assert_eq!(saved["lowpass_fc_hz"], serde_json::Value::Null);
+    assert_eq!(saved["counts_per_inch"], 800);
+    std::fs::write(&profile, &got.stdout).expect("written");
+    assert_eq!(
+        device(&["config", "set", "counts_per_inch=1600", "drift=off"])
+            .status
+            .code(),
+        Some(0)
+    );
+    let p = profile.to_str().expect("a UTF-8 path");
+    let out = device(&["--json", "config", "set", "--file", p, "x_sign=-1"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let now: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let mut want = saved.clone();
+    want["x_sign"] = serde_json::json!(-1);
+    assert_eq!(
+        now, want,
+        "the file's profile, x_sign from the command line"
+    );
+    assert_eq!(
+        device(&["config", "set", "--file", p]).status.code(),
+        Some(0)
+    );
+    std::fs::write(&profile, "{\"cpi\": 1}").expect("written");
+    let out = device(&["config", "set", "--file", p]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("cpi=1: unknown key"),
+        "{}",
+        text(&out.stderr)
+    );
+    let _ = std::fs::remove_file(&profile);
     // A rate the device cannot run is refused naming the rate (not the calibration window
     // it would make too short), with status 2, and changes nothing.
     let before = text(&device(&["config", "get"]).stdout);
@@ -267,7 +358,7 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
     assert!(
         before
             .lines()
-            .any(|l| l == "scheme=euler" || l == "scheme=trapezoid"),
+            .any(|l| l.starts_with("scheme ") && l.contains(" euler ")),
         "{before}"
     );
     // Ctrl-C during a recording keeps what arrived, marked partial.
@@ -453,4 +544,26 @@ fn an_endless_input_is_refused_at_its_first_line_not_read_whole() {
         );
         assert!(err.len() < 200, "{args:?}: quoted short: {err}");
     }
+}
+
+#[test]
+fn the_twin_refuses_a_recording_its_12_bit_adc_could_not_make() {
+    let file = std::env::temp_dir().join(format!("imu-cli-{}-16bit.csv", std::process::id()));
+    std::fs::write(
+        &file,
+        "fs,1000\nn,x,y,z\n0,2048,2048,2048\n1,5000,2048,2048\n",
+    )
+    .expect("file");
+    let out = lab()
+        .args(["twin", "--addr", "127.0.0.1:0", "--replay"])
+        .arg(&file)
+        .output()
+        .expect("runs");
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("sample 1: codes [5000, 2048, 2048]: the board's 12-bit ADC gives 0..=4095"),
+        "{err}"
+    );
+    let _ = std::fs::remove_file(&file);
 }

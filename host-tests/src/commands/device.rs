@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use imu_core::profile::{Key, Kind};
-use imu_core::protocol::{Info, Source};
+use imu_core::profile::{Key, Kind, Profile};
+use imu_core::protocol::{ErrorCode, Info, Source};
 use serde::Serialize;
 
 use crate::device::client::{Client, ClientError, HidLink, Link, Recorded};
@@ -59,7 +59,7 @@ pub enum What {
     Save,
     /// Run and keep the default settings.
     Defaults,
-    /// Calibrate again (keep the device still for the calibration window).
+    /// Calibrate again, wait for a window at rest (at most 10 windows) and show the new zero.
     Recalibrate,
     /// Record raw ADC codes to a CSV file in the lab's recording format.
     Record {
@@ -79,9 +79,13 @@ pub enum ConfigOp {
     Get,
     /// `KEY=VALUE ...`, applied as a whole or not at all (`off` for an optional value).
     Set {
-        /// `KEY=VALUE` pairs, e.g. `counts_per_inch=1600 lowpass_fc_hz=off`.
-        #[arg(required = true)]
+        /// `KEY=VALUE` pairs, e.g. `counts_per_inch=1600 lowpass_fc_hz=off`; with `--file`,
+        /// they change the file's values.
+        #[arg(required_unless_present = "file")]
         pairs: Vec<String>,
+        /// A profile written by `config get --json` (a JSON object of key: value).
+        #[arg(long)]
+        file: Option<PathBuf>,
     },
 }
 
@@ -96,7 +100,8 @@ fn show(key: Key, v: f64) -> String {
         _ if key == Key::Scheme => SCHEMES
             .get(v as usize)
             .map_or_else(|| format!("{v}"), |w| (*w).into()),
-        _ => format!("{v}"),
+        // Exact (it reads back as itself), in exponent form when huge or tiny.
+        _ => crate::formats::number::Num(v).to_string(),
     }
 }
 
@@ -154,6 +159,49 @@ pub fn parse_pairs(pairs: &[String]) -> Result<Vec<(Key, f64)>, Error> {
         }
     }
     Ok(parsed)
+}
+
+/// The pairs of a profile file (`config get --json`'s object: a number, `null` for off,
+/// `true`/`false` for a flag, a word), then the command line's `pairs`, which replace the
+/// file's value of a key they name.
+///
+/// # Errors
+/// [`Error::File`] naming the file and the entry: unreadable, not a JSON object, an unknown
+/// key, a value the key does not take; or [`parse_pairs`]' errors.
+pub fn profile_pairs(
+    file: Option<&std::path::Path>,
+    pairs: &[String],
+) -> Result<Vec<(Key, f64)>, Error> {
+    let cli = parse_pairs(pairs)?;
+    let Some(path) = file else {
+        return Ok(cli);
+    };
+    let bad = |why: String| Error::file(path, why);
+    let text = std::fs::read_to_string(path).map_err(|e| Error::file(path, e))?;
+    let value: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
+    let serde_json::Value::Object(map) = value else {
+        return Err(bad(
+            "not a profile: expected an object of key: value, as `config get --json` writes".into(),
+        ));
+    };
+    let mut out = Vec::with_capacity(map.len() + cli.len());
+    for (name, v) in &map {
+        let word = match v {
+            serde_json::Value::Null => "off".to_string(),
+            serde_json::Value::Bool(b) => (if *b { "on" } else { "off" }).to_string(),
+            serde_json::Value::Number(n) => n.to_string(),
+            serde_json::Value::String(w) => w.clone(),
+            other => return Err(bad(format!("{name}: {other} is not a value"))),
+        };
+        let (key, value) = parse_pair(&format!("{name}={word}"))
+            .map_err(|e| bad(e.to_string().replacen("config set ", "", 1)))?;
+        if !cli.iter().any(|(k, _)| *k == key) {
+            out.push((key, value));
+        }
+    }
+    out.extend(cli);
+    Ok(out)
 }
 
 /// A recording's file checked before the device is asked for anything: not a folder, and
@@ -223,16 +271,7 @@ fn info<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
         restarts: k.restarts,
         reports: k.reports,
         rejected_windows: k.rejected_windows,
-        calibration: cal.map(|axes| {
-            axes.iter()
-                .map(|a| {
-                    (
-                        a.bias_q16 as f64 / 65_536.0,
-                        f64::from(a.noise_rms_q16) / 65_536.0,
-                    )
-                })
-                .collect()
-        }),
+        calibration: cal.map(|axes| zeros(&axes)),
     };
     if json {
         return super::json(&out);
@@ -268,27 +307,122 @@ fn info<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
     Ok(s)
 }
 
+/// The profile `pairs` (as `config get` reads them) describe.
+fn profile_of(pairs: &[(Key, f64)]) -> Profile {
+    let mut p = Profile::default();
+    for &(k, v) in pairs {
+        // A value this host's table refuses cannot come from a device of this protocol;
+        // the key keeps its default, and the range shown is the default profile's.
+        let _ = p.set(k, v);
+    }
+    p
+}
+
+/// What `key` takes on this device with the rest of `p`, as a user writes it, with the
+/// unit after the numbers when `unit` is asked for.
+fn takes(p: &Profile, key: Key, unit: bool) -> String {
+    let unit = if unit && !key.unit().is_empty() {
+        format!(" {}", key.unit())
+    } else {
+        String::new()
+    };
+    let range = imu_app::device::range(p, key).map(|r| format!("{r}{unit}"));
+    match (key.kind(), range) {
+        (Kind::Flag, _) => "on, off".into(),
+        (Kind::Sign, _) => "1, -1".into(),
+        _ if key == Key::Scheme => SCHEMES.join(", "),
+        (Kind::Optional, Some(r)) => format!("{r}, or off"),
+        (_, Some(r)) => r,
+        (_, None) => String::new(),
+    }
+}
+
+/// A value as JSON: a number, `null` for off, `true`/`false` for a flag, a word for the
+/// scheme (what [`profile_pairs`] reads back).
+fn json_value(key: Key, v: f64) -> serde_json::Value {
+    match key.kind() {
+        Kind::Optional if v.is_nan() => serde_json::Value::Null,
+        Kind::Flag => serde_json::Value::Bool(v == 1.0),
+        _ if key == Key::Scheme => serde_json::Value::String(show(key, v)),
+        // Integers as integers (`800`, not `800.0`): carried exactly in the f64.
+        Kind::Integer { .. } | Kind::Sign => serde_json::json!(v as i64),
+        _ => serde_json::json!(v),
+    }
+}
+
 fn config_get<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
     let pairs = c.config()?;
     if json {
         let map: serde_json::Map<String, serde_json::Value> = pairs
             .iter()
-            .map(|(k, v)| {
-                let value = if v.is_nan() {
-                    serde_json::Value::Null
-                } else {
-                    serde_json::json!(v)
-                };
-                (k.name().to_string(), value)
-            })
+            .map(|&(k, v)| (k.name().to_string(), json_value(k, v)))
             .collect();
         return super::json(&map);
     }
-    Ok(pairs
+    let p = profile_of(&pairs);
+    let rows: Vec<[String; 5]> = pairs
         .iter()
-        .map(|(k, v)| format!("{k}={}", show(*k, *v)))
-        .collect::<Vec<_>>()
-        .join("\n"))
+        .map(|&(k, v)| {
+            [
+                k.name().to_string(),
+                show(k, v),
+                k.unit().to_string(),
+                takes(&p, k, false),
+                k.about().to_string(),
+            ]
+        })
+        .collect();
+    let width = |i: usize| rows.iter().map(|r| r[i].len()).max().unwrap_or(0);
+    let (w0, w1, w2, w3) = (width(0), width(1), width(2), width(3));
+    let mut out = format!(
+        "{:w0$}  {:w1$}  {:w2$}  {:w3$}  what it does\n",
+        "key", "value", "unit", "takes"
+    );
+    for r in &rows {
+        out += &format!(
+            "{:w0$}  {:w1$}  {:w2$}  {:w3$}  {}\n",
+            r[0], r[1], r[2], r[3], r[4]
+        );
+    }
+    out.push_str(
+        "(config set KEY=VALUE ...; `takes` is for this profile: some ranges follow fs_hz)",
+    );
+    Ok(out)
+}
+
+/// A refusal of `pairs` by the device, with what the refused key takes there.
+fn refused<L: Link>(c: &mut Client<L>, pairs: &[(Key, f64)], code: ErrorCode) -> Error {
+    let (ErrorCode::Value(key) | ErrorCode::Invalid(key) | ErrorCode::Unsupported(key)) = code
+    else {
+        return Error::from(ClientError::Refused(code));
+    };
+    // The profile the set would have made (the device kept its own).
+    let mut p = match c.config() {
+        Ok(now) => profile_of(&now),
+        Err(_) => Profile::default(),
+    };
+    for &(k, v) in pairs {
+        let _ = p.set(k, v);
+    }
+    let given = pairs
+        .iter()
+        .find(|(k, _)| *k == key)
+        .map_or_else(String::new, |&(k, v)| format!(" {k}={}", show(k, v)));
+    let why = match (code, key) {
+        (ErrorCode::Unsupported(_), Key::FsHz) => format!(
+            "this board samples at {}, at rates that divide its 96 MHz clock (1000, 3000, \
+             20000 do; 7000 does not)",
+            takes(&p, key, true)
+        ),
+        (ErrorCode::Unsupported(_), Key::AdcBits) => {
+            format!("this board's ADC has {} bits", imu_app::device::ADC_BITS)
+        }
+        (ErrorCode::Invalid(_), Key::XAxis | Key::YAxis) => {
+            "x_axis and y_axis must be different sensor axes (0 X, 1 Y, 2 Z)".into()
+        }
+        _ => format!("{key} takes {} here: {}", takes(&p, key, true), key.about()),
+    };
+    Error::Input(format!("config set:{given} refused by the device: {why}"))
 }
 
 /// Set by Ctrl-C during a recording.
@@ -382,9 +516,13 @@ fn dispatch<L: Link>(mut c: Client<L>, a: &Args) -> Outcome {
         What::Info => info(&mut c, a.json),
         What::Config { op: ConfigOp::Get } => config_get(&mut c, a.json),
         What::Config {
-            op: ConfigOp::Set { pairs },
+            op: ConfigOp::Set { pairs, file },
         } => {
-            c.set(&parse_pairs(pairs)?)?;
+            let pairs = profile_pairs(file.as_deref(), pairs)?;
+            match c.set(&pairs) {
+                Err(ClientError::Refused(code)) => return Err(refused(&mut c, &pairs, code)),
+                other => other?,
+            }
             config_get(&mut c, a.json)
         }
         What::Save => {
@@ -395,16 +533,68 @@ fn dispatch<L: Link>(mut c: Client<L>, a: &Args) -> Outcome {
             c.defaults()?;
             done(a.json, "defaults", "defaults running and saved")
         }
-        What::Recalibrate => {
-            c.recalibrate()?;
-            done(
-                a.json,
-                "recalibrating",
-                "recalibrating: keep the device still",
-            )
-        }
+        What::Recalibrate => recalibrate(&mut c, a.json),
         What::Record { seconds, out } => record(&mut c, *seconds, out, a.json),
     }
+}
+
+/// How many calibration windows `recalibrate` waits through for one at rest.
+const RECALIBRATE_WINDOWS: u32 = 10;
+
+/// Per tracker axis (cursor x, cursor y, vertical): the zero and the rms noise [LSB].
+fn zeros(axes: &[imu_core::protocol::AxisCalibration; 3]) -> Vec<(f64, f64)> {
+    axes.iter()
+        .map(|a| {
+            (
+                a.bias_q16 as f64 / 65_536.0,
+                f64::from(a.noise_rms_q16) / 65_536.0,
+            )
+        })
+        .collect()
+}
+
+/// Asks for a calibration, waits until a window at rest is taken (at most
+/// [`RECALIBRATE_WINDOWS`] windows), and shows the new zero.
+fn recalibrate<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
+    let pairs = c.config()?;
+    let window_s = pairs
+        .iter()
+        .find(|(k, _)| *k == Key::CalibrationS)
+        .map_or(1.0, |p| p.1);
+    let rejected = c.counters()?.rejected_windows;
+    c.recalibrate()?;
+    let started = std::time::Instant::now();
+    let limit = Duration::from_secs_f64(window_s * f64::from(RECALIBRATE_WINDOWS) + 1.0);
+    let bar = progress(0, json, "");
+    bar.set_message("calibrating: keep the device still");
+    while !c.info()?.tracking {
+        if started.elapsed() > limit {
+            bar.finish_and_clear();
+            let n = c.counters()?.rejected_windows.saturating_sub(rejected);
+            return Err(Error::Run(format!(
+                "no calibration in {:.1} s: {n} window(s) of {window_s} s rejected as motion \
+                 or clipping (noise over rest_noise_max_m_s2, or a code at a rail); keep the \
+                 device still and on its feet, then run recalibrate again",
+                started.elapsed().as_secs_f64()
+            )));
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    bar.finish_and_clear();
+    let took = started.elapsed().as_secs_f64();
+    let axes = c.calibration()?.map(|a| zeros(&a)).unwrap_or_default();
+    if json {
+        return super::json(&serde_json::json!({
+            "done": "recalibrated",
+            "seconds": took,
+            "calibration": axes,
+        }));
+    }
+    let mut text = format!("recalibrated in {took:.1} s; the new zero:");
+    for (name, (bias, rms)) in ["cursor x", "cursor y", "vertical"].iter().zip(&axes) {
+        text += &format!("\n{name}: zero {bias:.3} LSB, noise {rms:.3} LSB rms");
+    }
+    Ok(text)
 }
 
 /// A command that only acknowledges: `{"done": WHAT}` with `--json`, else `text`.
@@ -420,8 +610,8 @@ fn check_args(a: &Args) -> Result<(), Error> {
     positive("timeout", a.timeout)?;
     match &a.what {
         What::Config {
-            op: ConfigOp::Set { pairs },
-        } => parse_pairs(pairs).map(|_| ()),
+            op: ConfigOp::Set { pairs, file },
+        } => profile_pairs(file.as_deref(), pairs).map(|_| ()),
         What::Record { seconds, out } => {
             positive("seconds", *seconds)?;
             writable(out)

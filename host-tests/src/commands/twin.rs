@@ -55,6 +55,22 @@ fn input(a: &Args) -> Result<twin::Input, Error> {
         Some(file) => {
             let rec =
                 recording::parse(super::open(file)?, None).map_err(|e| Error::file(file, e))?;
+            // The twin's ADC is the board's: a code it cannot make is not a recording of it.
+            let top = (1u16 << imu_app::device::ADC_BITS) - 1;
+            if let Some((i, s)) = rec
+                .samples
+                .iter()
+                .enumerate()
+                .find(|(_, s)| s.iter().any(|&c| c > top))
+            {
+                return Err(Error::file(
+                    file,
+                    format!(
+                        "sample {i}: codes {s:?}: the board's {}-bit ADC gives 0..={top}",
+                        imu_app::device::ADC_BITS
+                    ),
+                ));
+            }
             twin::Input {
                 fs_hz: rec.fs,
                 codes: rec.samples,

@@ -59,9 +59,16 @@ pub fn describe(e: ErrorCode) -> String {
         ErrorCode::UnknownKey(k) => format!("key id {k} is unknown to this firmware"),
         ErrorCode::Value(k) => format!("{k}: the value does not fit the key"),
         ErrorCode::Invalid(k) => format!("{k}: the configuration does not validate"),
-        ErrorCode::Unsupported(k) => {
-            format!("{k}: the device cannot run this value (rates: 100..=20000 Hz dividing 96 MHz)")
-        }
+        ErrorCode::Unsupported(Key::FsHz) => format!(
+            "fs_hz: the device cannot run this rate (it takes {}..={} Hz, dividing 96 MHz)",
+            imu_app::device::FS_MIN_HZ,
+            imu_app::device::FS_MAX_HZ
+        ),
+        ErrorCode::Unsupported(Key::AdcBits) => format!(
+            "adc_bits: the device's ADC has {} bits",
+            imu_app::device::ADC_BITS
+        ),
+        ErrorCode::Unsupported(k) => format!("{k}: the device cannot run this value"),
         ErrorCode::Storage => "the flash store failed; nothing was kept".into(),
         ErrorCode::Busy => "a save is in progress".into(),
     }
