@@ -9,8 +9,28 @@ pub const VID_PID: (u16, u16) = (0x1209, 0x0001);
 pub const MANUFACTURER: &str = "imu-mouse project";
 /// Product string.
 pub const PRODUCT: &str = "imu-mouse accelerometer mouse";
-/// Serial number string.
+/// Serial number string of a device without a unique ID of its own (the app's tests). A
+/// board's serial is its MCU's unique device ID ([`serial`]); the twin's is its `--serial`.
 pub const SERIAL: &str = "0001";
+
+/// Length of a board's serial number string [characters]: the 96-bit unique device ID as
+/// hex digits.
+pub const SERIAL_LEN: usize = 24;
+
+/// The serial number string of a board whose MCU has the unique device ID `uid` (the 12
+/// bytes from 0x1FFF_7A10 in address order, RM0383 section 24.1: wafer X and Y as
+/// little-endian u16, the wafer number, the lot number's 7 ASCII bytes), written into `out`
+/// as upper-case hex digits in address order, so that two boards never show one serial and
+/// `cargo lab device --serial` can tell them apart.
+pub fn serial<'a>(uid: &[u8; 12], out: &'a mut [u8; SERIAL_LEN]) -> &'a str {
+    const HEX: &[u8; 16] = b"0123456789ABCDEF";
+    for (i, b) in uid.iter().enumerate() {
+        out[2 * i] = HEX[usize::from(b >> 4)];
+        out[2 * i + 1] = HEX[usize::from(b & 0xF)];
+    }
+    // Hex digits are ASCII: always UTF-8.
+    core::str::from_utf8(out).unwrap_or(SERIAL)
+}
 /// Device release number, BCD (`bcdDevice`, 0x0100 = 1.00).
 pub const RELEASE_BCD: u16 = 0x0100;
 /// Most current the device draws from the bus while configured [mA]; the configuration

@@ -58,17 +58,20 @@ pub fn hid_class<B: UsbBus>(bus: &UsbBusAllocator<B>) -> HIDClass<'_, B> {
 }
 
 /// The USB device exactly as the device builds it: [`identity`]'s IDs, strings and power,
-/// remote wake-up supported.
+/// `serial` as its serial number, remote wake-up supported.
 ///
 /// # Errors
-/// The builder's error if the strings or the power do not fit (they are constants).
-pub fn usb_device<B: UsbBus>(bus: &UsbBusAllocator<B>) -> Result<UsbDevice<'_, B>, BuilderError> {
+/// The builder's error if the strings or the power do not fit.
+pub fn usb_device<'a, B: UsbBus>(
+    bus: &'a UsbBusAllocator<B>,
+    serial: &'static str,
+) -> Result<UsbDevice<'a, B>, BuilderError> {
     let (vid, pid) = identity::VID_PID;
     Ok(UsbDeviceBuilder::new(bus, UsbVidPid(vid, pid))
         .strings(&[StringDescriptors::default()
             .manufacturer(identity::MANUFACTURER)
             .product(identity::PRODUCT)
-            .serial_number(identity::SERIAL)])?
+            .serial_number(serial)])?
         .device_release(identity::RELEASE_BCD)
         .max_power(identity::MAX_POWER_MA)?
         .supports_remote_wakeup(true)
@@ -258,14 +261,16 @@ pub struct Mouse<'a, B: UsbBus> {
 }
 
 impl<'a, B: UsbBus> Mouse<'a, B> {
-    /// Builds the device on `bus`.
+    /// Builds the device on `bus`, with the serial number `serial` ([`identity::serial`] on
+    /// a board).
     ///
     /// # Errors
-    /// The builder's error if the strings do not fit (they are constants in [`identity`]).
-    pub fn new(bus: &'a UsbBusAllocator<B>) -> Result<Self, BuilderError> {
+    /// The builder's error if the strings do not fit (the others are constants in
+    /// [`identity`]).
+    pub fn new(bus: &'a UsbBusAllocator<B>, serial: &'static str) -> Result<Self, BuilderError> {
         let hid = mouse_class(bus);
         let port = config_class(bus);
-        let dev = usb_device(bus)?;
+        let dev = usb_device(bus, serial)?;
         Ok(Self {
             dev,
             hid,

@@ -158,7 +158,7 @@ fn configured(
     host: &Host,
     alloc: &'static UsbBusAllocator<ScriptBus>,
 ) -> Mouse<'static, ScriptBus> {
-    let mut mouse = Mouse::new(alloc).expect("identity fits");
+    let mut mouse = Mouse::new(alloc, imu_app::identity::SERIAL).expect("identity fits");
     host.setup([0x00, 0x09, 1, 0, 0, 0, 0, 0]); // SET_CONFIGURATION 1
     for _ in 0..3 {
         mouse.service([0; 3], 0);
@@ -226,7 +226,7 @@ fn responses_wait_for_a_busy_endpoint_and_go_before_stream_frames() {
 #[test]
 fn nothing_streams_to_a_host_that_is_not_listening_and_a_reset_empties_the_boxes() {
     let (host, alloc) = bus();
-    let mut mouse = Mouse::new(alloc).expect("identity fits");
+    let mut mouse = Mouse::new(alloc, imu_app::identity::SERIAL).expect("identity fits");
     mouse.service([0; 3], LATER);
     assert!(!mouse.push_stream_frame(&stream_frame()), "not configured");
     let mut mouse = {

@@ -99,7 +99,7 @@ fn tick(
 #[test]
 fn logs_every_interval_key_debounced_and_led_shows_not_configured() {
     let alloc = UsbBusAllocator::new(NoHost);
-    let mut mouse = Mouse::new(&alloc).expect("identity fits");
+    let mut mouse = Mouse::new(&alloc, imu_app::identity::SERIAL).expect("identity fits");
     let mut tracker = Tracker::new(&device::tracker_config(3000)).expect("valid");
     let mut status = Status::new(20);
     let pressed = Rc::new(Cell::new(false));
@@ -146,7 +146,7 @@ fn logs_every_interval_key_debounced_and_led_shows_not_configured() {
 #[test]
 fn no_adc_data_outranks_usb_on_the_led() {
     let alloc = UsbBusAllocator::new(NoHost);
-    let mut mouse = Mouse::new(&alloc).expect("identity fits");
+    let mut mouse = Mouse::new(&alloc, imu_app::identity::SERIAL).expect("identity fits");
     let mut tracker = Tracker::new(&device::tracker_config(3000)).expect("valid");
     let mut status = Status::new(20);
     let lit_low = Rc::new(Cell::new(true));
@@ -166,7 +166,7 @@ fn a_press_reaches_the_report_and_the_tracker_keeps_tracking() {
     // resume from suspend), and a debounced press must reach the mouse's next report and
     // drift control (a click edge freezes integration for its click-freeze time).
     let alloc = UsbBusAllocator::new(NoHost);
-    let mut mouse = Mouse::new(&alloc).expect("identity fits");
+    let mut mouse = Mouse::new(&alloc, imu_app::identity::SERIAL).expect("identity fits");
     let mut tracker = Tracker::new(&device::tracker_config(3000)).expect("valid");
     tracker.feed(&[[2048, 2048, 2457]; 3000]);
     assert_eq!(tracker.phase(), imu_core::Phase::Tracking);
@@ -205,7 +205,7 @@ fn a_late_tick_still_logs_once() {
     // Ticks may come late (a busy executor): a tick past the deadline logs, and the next
     // deadline stays on the 5000 ms grid.
     let alloc = UsbBusAllocator::new(NoHost);
-    let mut mouse = Mouse::new(&alloc).expect("identity fits");
+    let mut mouse = Mouse::new(&alloc, imu_app::identity::SERIAL).expect("identity fits");
     let mut tracker = Tracker::new(&device::tracker_config(3000)).expect("valid");
     let mut status = Status::new(20);
     let mut hk = Housekeeping::new(
@@ -236,7 +236,7 @@ fn the_mouse_services_its_reports_with_its_devices_state() {
     // With no host the device stays in its default state: fresh counts are accounted as
     // discarded, and a button change waits.
     let alloc = UsbBusAllocator::new(NoHost);
-    let mut mouse = Mouse::new(&alloc).expect("identity fits");
+    let mut mouse = Mouse::new(&alloc, imu_app::identity::SERIAL).expect("identity fits");
     mouse.service([10, -4, 7], 0);
     assert_eq!(mouse.reports().reporter().discarded(), (10, 4));
     assert!(!mouse.reports().pending());

@@ -26,7 +26,7 @@ impl UsbDeviceCtx for Ctx {
         &mut self,
         alloc: &'a UsbBusAllocator<EmulatedUsbBus>,
     ) -> AnyResult<UsbDevice<'a, EmulatedUsbBus>> {
-        mouse::usb_device(alloc).map_err(AnyUsbError::UsbDeviceBuilder)
+        mouse::usb_device(alloc, identity::SERIAL).map_err(AnyUsbError::UsbDeviceBuilder)
     }
 }
 
@@ -223,4 +223,22 @@ fn the_host_may_enable_remote_wakeup() {
         assert!(!dev.usb_dev().remote_wakeup_enabled());
     })
     .expect("enumerates");
+}
+
+#[test]
+fn a_board_s_serial_is_its_unique_id_in_hex() {
+    let mut out = [0u8; identity::SERIAL_LEN];
+    let uid = [
+        0x34, 0x12, 0x78, 0x56, 0x09, b'L', b'O', b'T', b'1', b'2', b'3', b'4',
+    ];
+    assert_eq!(identity::serial(&uid, &mut out), "34127856094C4F5431323334");
+    // One bit apart, another serial.
+    let mut other = uid;
+    other[11] ^= 1;
+    let mut out2 = [0u8; identity::SERIAL_LEN];
+    assert_ne!(
+        identity::serial(&other, &mut out2),
+        "34127856094C4F5431323334"
+    );
+    assert_eq!(identity::serial(&[0xFF; 12], &mut out2), "F".repeat(24));
 }

@@ -111,3 +111,19 @@ pub const WATCHDOG_MS: u32 = imu_app::device::WATCHDOG_MS;
 
 /// Remote wake-up signalling time [ms] (USB 2.0: 1 to 15 ms).
 pub const REMOTE_WAKEUP_MS: u32 = 10;
+
+/// The MCU's 96-bit unique device ID, its 12 bytes in address order from 0x1FFF_7A10
+/// (RM0383 section 24.1), through the HAL's reader: wafer X and Y (little-endian u16), the
+/// wafer number, the lot number (7 ASCII bytes). The board's USB serial number is made from
+/// it (`imu_app::identity::serial`).
+pub fn unique_id() -> [u8; 12] {
+    let uid = stm32f4xx_hal::signature::Uid::get();
+    let mut id = [0u8; 12];
+    id[..2].copy_from_slice(&uid.x().to_le_bytes());
+    id[2..4].copy_from_slice(&uid.y().to_le_bytes());
+    id[4] = uid.waf_num();
+    for (d, s) in id[5..].iter_mut().zip(uid.lot_num().as_bytes()) {
+        *d = *s;
+    }
+    id
+}

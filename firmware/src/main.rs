@@ -117,6 +117,7 @@ mod app {
         buf_c: [u16; BUF_MAX] = [0; BUF_MAX],
         ep_memory: [u32; 1024] = [0; 1024],
         usb_bus: Option<UsbBusAllocator<UsbBusType>> = None,
+        serial: [u8; imu_app::identity::SERIAL_LEN] = [0; imu_app::identity::SERIAL_LEN],
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let mut dp: pac::Peripherals = cx.device;
@@ -166,7 +167,8 @@ mod app {
             .local
             .usb_bus
             .insert(UsbBus::new(usb, cx.local.ep_memory));
-        let Ok(mouse) = Mouse::new(bus) else {
+        let serial = imu_app::identity::serial(&board::unique_id(), cx.local.serial);
+        let Ok(mouse) = Mouse::new(bus, serial) else {
             defmt::panic!("USB identity strings do not fit the descriptor")
         };
 

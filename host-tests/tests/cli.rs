@@ -232,6 +232,8 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
             "30",
             "--addr",
             &addr,
+            "--serial",
+            "CLITWIN7",
         ])
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -251,6 +253,28 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
         );
         std::thread::sleep(std::time::Duration::from_millis(200));
     }
+    // The twin is listed with its serial, and chosen by it.
+    let listed = device(&["list"]);
+    assert_eq!(listed.status.code(), Some(0), "{}", text(&listed.stderr));
+    assert!(
+        text(&listed.stdout).starts_with("CLITWIN7  imu-mouse accelerometer mouse"),
+        "{}",
+        text(&listed.stdout)
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&device(&["--json", "list"]).stdout).expect("JSON");
+    assert_eq!(v[0]["serial"], "CLITWIN7");
+    assert_eq!(
+        device(&["--serial", "CLITWIN7", "info"]).status.code(),
+        Some(0)
+    );
+    let other = device(&["--serial", "OTHER", "info"]);
+    assert_eq!(other.status.code(), Some(1));
+    assert!(
+        text(&other.stderr).contains("has serial CLITWIN7, not OTHER"),
+        "{}",
+        text(&other.stderr)
+    );
     for (cmd, what) in [("save", "saved"), ("recalibrate", "recalibrated")] {
         let out = device(&["--json", cmd]);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON alone");
@@ -566,4 +590,18 @@ fn the_twin_refuses_a_recording_its_12_bit_adc_could_not_make() {
         "{err}"
     );
     let _ = std::fs::remove_file(&file);
+}
+
+#[test]
+fn a_list_without_a_board_says_none_was_found() {
+    // No board is attached to the machines this runs on.
+    let out = output(&["device", "list"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).starts_with("no imu-mouse found"),
+        "{}",
+        text(&out.stdout)
+    );
+    let out = output(&["device", "--json", "list"]);
+    assert_eq!(text(&out.stdout).trim(), "[]");
 }

@@ -35,6 +35,7 @@ fn start_twin(port: u16, flash: &Path, seconds: f64) -> (SocketAddr, JoinHandle<
         addr,
         wait_host_s: 20.0,
         drain_s: 0.5,
+        serial: "LABDEVICE1",
     };
     let input = scene(seconds);
     let handle = std::thread::spawn(move || {

@@ -11,7 +11,7 @@ use imu_core::profile::{Key, Kind, Profile};
 use imu_core::protocol::{ErrorCode, Info, Source};
 use serde::Serialize;
 
-use crate::device::client::{Client, ClientError, HidLink, Link, Recorded};
+use crate::device::client::{Client, ClientError, Found, HidLink, Link, Recorded};
 use crate::device::usbip::BUSID;
 use crate::device::usbip_host::{UsbIpError, UsbIpHost};
 use crate::formats::recording;
@@ -39,6 +39,9 @@ pub struct Args {
     /// Print JSON instead of text.
     #[arg(long, global = true)]
     pub json: bool,
+    /// The device with this USB serial number (`list` shows them); without it, the only one.
+    #[arg(long, global = true)]
+    pub serial: Option<String>,
     /// What to do.
     #[command(subcommand)]
     pub what: What,
@@ -47,6 +50,8 @@ pub struct Args {
 /// The device commands.
 #[derive(clap::Subcommand, Debug)]
 pub enum What {
+    /// The imu-mice on this computer (or the twin): serial, product, release, path.
+    List,
     /// Firmware, protocol, where the settings came from, counters, last calibration.
     Info,
     /// Read or change the settings (applied at once, kept only by `save`).
@@ -513,6 +518,8 @@ fn summary(rec: &Recorded, fs: u32, out: &std::path::Path, json: bool) -> Outcom
 
 fn dispatch<L: Link>(mut c: Client<L>, a: &Args) -> Outcome {
     match &a.what {
+        // Answered before a device is opened (`run`).
+        What::List => Err(Error::Run("list opens no device".into())),
         What::Info => info(&mut c, a.json),
         What::Config { op: ConfigOp::Get } => config_get(&mut c, a.json),
         What::Config {
@@ -651,20 +658,64 @@ fn unreachable(addr: std::net::SocketAddr, timeout: Duration, e: UsbIpError) -> 
     }
 }
 
+/// The devices `list` shows: the boards on this host's USB, or the twin at `--twin`.
+fn list(a: &Args, timeout: Duration) -> Outcome {
+    let found = match a.twin {
+        Some(addr) => {
+            let mut host = UsbIpHost::connect(addr, BUSID, timeout)
+                .map_err(|e| unreachable(addr, timeout, e))?;
+            let serial = host.serial().map_err(|e| Error::Run(e.to_string()))?;
+            vec![Found {
+                serial: serial.unwrap_or_default(),
+                product: imu_app::identity::PRODUCT.into(),
+                release: String::new(),
+                path: format!("usbip://{addr}/{BUSID}"),
+            }]
+        }
+        None => HidLink::list()?.1,
+    };
+    if a.json {
+        return super::json(&found);
+    }
+    if found.is_empty() {
+        return Ok(
+            "no imu-mouse found (on Linux a user needs the udev rule of docs/device.md)".into(),
+        );
+    }
+    Ok(found
+        .iter()
+        .map(|f| format!("{}  {}  {}  {}", f.serial, f.product, f.release, f.path))
+        .collect::<Vec<_>>()
+        .join("\n"))
+}
+
 /// Runs `cargo lab device`.
 ///
 /// # Errors
-/// A bad argument, no device, a refusal (naming the key), a recording with gaps.
+/// A bad argument, no device (or not the one `--serial` names), a refusal (naming the key),
+/// a recording with gaps.
 pub fn run(a: &Args) -> Outcome {
     check_args(a)?;
     let timeout = Duration::from_secs_f64(a.timeout);
+    if matches!(a.what, What::List) {
+        return list(a, timeout);
+    }
     match a.twin {
         Some(addr) => {
-            let host = UsbIpHost::connect(addr, BUSID, timeout)
+            let mut host = UsbIpHost::connect(addr, BUSID, timeout)
                 .map_err(|e| unreachable(addr, timeout, e))?;
+            if let Some(want) = &a.serial {
+                let serial = host.serial().map_err(|e| Error::Run(e.to_string()))?;
+                if serial.as_deref() != Some(want.as_str()) {
+                    return Err(Error::Run(format!(
+                        "the twin at {addr} has serial {}, not {want}",
+                        serial.as_deref().unwrap_or("(none)")
+                    )));
+                }
+            }
             dispatch(Client::new(host, timeout), a)
         }
-        None => dispatch(Client::new(HidLink::open()?, timeout), a),
+        None => dispatch(Client::new(HidLink::open(a.serial.as_deref())?, timeout), a),
     }
 }
 

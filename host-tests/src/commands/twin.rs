@@ -44,6 +44,10 @@ pub struct Args {
     /// the twin starts with an erased flash (the defaults).
     #[arg(long)]
     pub flash: Option<std::path::PathBuf>,
+    /// The device's USB serial number (`cargo lab device list` shows it; a board's is its
+    /// MCU's unique ID).
+    #[arg(long, default_value = "TWIN0001")]
+    pub serial: String,
     /// Print JSON instead of the table.
     #[arg(long)]
     pub json: bool,
@@ -125,6 +129,19 @@ fn operator() -> twin::Operator {
 pub fn run(a: &Args) -> Outcome {
     let input = input(a)?;
     positive("wait-host", a.wait_host)?;
+    if a.serial.is_empty()
+        || a.serial.len() > 32
+        || !a
+            .serial
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b == b'-')
+    {
+        return Err(Error::arg(
+            "serial",
+            &a.serial,
+            "must be 1 to 32 letters, digits or dashes",
+        ));
+    }
     let flash = match &a.flash {
         Some(path) => FileFlash::open(path).map_err(|e| Error::file(path, e))?,
         None => FileFlash::blank(),
@@ -134,6 +151,8 @@ pub fn run(a: &Args) -> Outcome {
         addr: a.addr,
         wait_host_s: a.wait_host,
         drain_s: 2.0,
+        // One twin a process: its serial lives as long as the process.
+        serial: Box::leak(a.serial.clone().into_boxed_str()),
     };
     let s = twin::run(&input, settings, operator, flash).map_err(|e| Error::Run(e.to_string()))?;
     if a.json {

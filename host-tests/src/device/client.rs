@@ -346,30 +346,98 @@ fn unexpected(r: &Response) -> ClientError {
     ClientError::Answer(format!("unexpected answer {r:?}"))
 }
 
+/// An imu-mouse's configuration interface found on this host's USB.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Found {
+    /// Its USB serial number (a board's MCU unique ID, 24 hex digits).
+    pub serial: String,
+    /// Its product string.
+    pub product: String,
+    /// Its release (`bcdDevice`, as `1.00`).
+    pub release: String,
+    /// The operating system's path to its HID interface.
+    pub path: String,
+}
+
+/// The device to talk to among `found`: the one with `serial` if given, else the only one.
+///
+/// # Errors
+/// [`ClientError::Link`]: none found (with the Linux permission hint), none with that serial,
+/// or several and no serial to choose by (each is named).
+pub fn choose(found: &[Found], serial: Option<&str>) -> Result<Found, ClientError> {
+    let (vid, pid) = imu_app::identity::VID_PID;
+    let serials = || {
+        found
+            .iter()
+            .map(|f| f.serial.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match (found, serial) {
+        ([], _) => Err(ClientError::Link(format!(
+            "no imu-mouse ({vid:04x}:{pid:04x}) with a configuration interface; on Linux a \
+             user needs the udev rule of docs/device.md to open it"
+        ))),
+        (_, Some(want)) => found
+            .iter()
+            .find(|f| f.serial == want)
+            .cloned()
+            .ok_or_else(|| {
+                ClientError::Link(format!(
+                    "no imu-mouse with serial {want}; found: {}",
+                    serials()
+                ))
+            }),
+        ([one], None) => Ok(one.clone()),
+        (_, None) => Err(ClientError::Link(format!(
+            "{} imu-mice are plugged in: choose one with --serial ({})",
+            found.len(),
+            serials()
+        ))),
+    }
+}
+
 /// The configuration interface of a board on this host's USB, through `hidapi`.
 pub struct HidLink(hidapi::HidDevice);
 
 impl HidLink {
-    /// Opens the first imu-mouse (`imu_app::identity::VID_PID`) whose HID interface has the
-    /// vendor usage page 0xFF00.
+    /// Every imu-mouse (`imu_app::identity::VID_PID`) on this host whose HID interface has the
+    /// vendor usage page 0xFF00, with the hidapi context that found them.
     ///
     /// # Errors
-    /// hidapi's error, or no such device (with the Linux permission hint).
-    pub fn open() -> Result<Self, ClientError> {
+    /// hidapi's error.
+    pub fn list() -> Result<(hidapi::HidApi, Vec<Found>), ClientError> {
         let (vid, pid) = imu_app::identity::VID_PID;
         let api = hidapi::HidApi::new().map_err(|e| ClientError::Link(e.to_string()))?;
-        let info = api
+        let found = api
             .device_list()
-            .find(|d| d.vendor_id() == vid && d.product_id() == pid && d.usage_page() == 0xFF00)
-            .ok_or_else(|| {
-                ClientError::Link(format!(
-                    "no imu-mouse ({vid:04x}:{pid:04x}) with a configuration interface; on \
-                     Linux a user needs the udev rule of docs/device.md to open it"
-                ))
-            })?;
-        let dev = info
-            .open_device(&api)
-            .map_err(|e| ClientError::Link(format!("{}: {e}", info.path().to_string_lossy())))?;
+            .filter(|d| d.vendor_id() == vid && d.product_id() == pid && d.usage_page() == 0xFF00)
+            .map(|d| Found {
+                serial: d.serial_number().unwrap_or("").to_string(),
+                product: d.product_string().unwrap_or("").to_string(),
+                release: format!(
+                    "{}.{:02x}",
+                    d.release_number() >> 8,
+                    d.release_number() & 0xFF
+                ),
+                path: d.path().to_string_lossy().into_owned(),
+            })
+            .collect();
+        Ok((api, found))
+    }
+
+    /// Opens the imu-mouse with `serial`, or the only one ([`choose`]).
+    ///
+    /// # Errors
+    /// hidapi's error, or [`choose`]'s.
+    pub fn open(serial: Option<&str>) -> Result<Self, ClientError> {
+        let (api, found) = Self::list()?;
+        let f = choose(&found, serial)?;
+        let path =
+            std::ffi::CString::new(f.path.clone()).map_err(|e| ClientError::Link(e.to_string()))?;
+        let dev = api
+            .open_path(&path)
+            .map_err(|e| ClientError::Link(format!("{}: {e}", f.path)))?;
         Ok(Self(dev))
     }
 }
@@ -393,5 +461,40 @@ impl Link for HidLink {
             Ok(_) => Ok(Some(f)),
             Err(e) => Err(ClientError::Link(e.to_string())),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn found(serial: &str) -> Found {
+        Found {
+            serial: serial.into(),
+            product: imu_app::identity::PRODUCT.into(),
+            release: "1.00".into(),
+            path: format!("/dev/hidraw-{serial}"),
+        }
+    }
+
+    #[test]
+    fn a_device_is_chosen_by_serial_or_as_the_only_one() {
+        let two = [found("AAA"), found("BBB")];
+        assert_eq!(choose(&two, Some("BBB")).ok(), Some(found("BBB")));
+        assert_eq!(choose(&two[..1], None).ok(), Some(found("AAA")));
+        let e = choose(&two, None).expect_err("which one?").to_string();
+        assert!(
+            e.contains("2 imu-mice") && e.contains("--serial (AAA, BBB)"),
+            "{e}"
+        );
+        let e = choose(&two, Some("CCC"))
+            .expect_err("not there")
+            .to_string();
+        assert!(
+            e.contains("no imu-mouse with serial CCC; found: AAA, BBB"),
+            "{e}"
+        );
+        let e = choose(&[], None).expect_err("none").to_string();
+        assert!(e.contains("udev rule"), "{e}");
     }
 }

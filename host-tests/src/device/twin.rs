@@ -161,6 +161,8 @@ pub struct Settings {
     pub wait_host_s: f64,
     /// How long to keep serving after the scene so that owed counts reach the host [s].
     pub drain_s: f64,
+    /// The USB serial number string (a board's is its MCU's unique ID).
+    pub serial: &'static str,
 }
 
 /// Why the twin could not run.
@@ -346,7 +348,7 @@ pub fn run(
     );
     let monitor = bus.monitor();
     let bus = UsbBusAllocator::new(bus);
-    let mut mouse = Mouse::new(&bus).map_err(|e| TwinError::Device(format!("{e:?}")))?;
+    let mut mouse = Mouse::new(&bus, s.serial).map_err(|e| TwinError::Device(format!("{e:?}")))?;
     let config = loaded.profile.config;
     let mut tracker = Tracker::new(&config).map_err(|e| TwinError::Device(e.to_string()))?;
     let mut status = Status::new(device::wake_motion_lsb(config.m_s2_per_lsb));

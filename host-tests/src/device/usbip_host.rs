@@ -204,6 +204,27 @@ impl UsbIpHost {
         Ok(back)
     }
 
+    /// The device's serial number string (the string its device descriptor's
+    /// `iSerialNumber` names, in US English), or `None` if it has none.
+    ///
+    /// # Errors
+    /// A failed control request, or a descriptor that is not one.
+    pub fn serial(&mut self) -> Result<Option<String>, UsbIpError> {
+        let device = self.control([0x80, 0x06, 0, 1, 0, 0, 18, 0], &[], 18)?;
+        let Some(&index) = device.get(16).filter(|&&i| i != 0) else {
+            return Ok(None);
+        };
+        let s = self.control([0x80, 0x06, index, 3, 0x09, 0x04, 255, 0], &[], 255)?;
+        if s.len() < 2 || s[1] != 3 {
+            return proto("the serial number is not a string descriptor");
+        }
+        let units: Vec<u16> = s[2..usize::from(s[0]).min(s.len())]
+            .chunks_exact(2)
+            .map(|c| u16::from_le_bytes([c[0], c[1]]))
+            .collect();
+        Ok(Some(String::from_utf16_lossy(&units)))
+    }
+
     /// The configuration interface's `(IN, OUT)` endpoint numbers.
     fn find_interface(&mut self) -> Result<(u32, u32), UsbIpError> {
         let head = self.control([0x80, 0x06, 0, 2, 0, 0, 9, 0], &[], 9)?;
