@@ -115,6 +115,21 @@ fn a_bad_argument_is_named_on_stderr_with_status_2() {
             vec!["replay", "/nonexistent/imu.csv", "--fs", "-1"],
             "--fs -1",
         ),
+        // Before the scene runs, not after.
+        (
+            vec![
+                "simulate",
+                "--scene",
+                "adxl335-rest",
+                "--csv",
+                "/nonexistent/x.csv",
+            ],
+            "--csv /nonexistent/x.csv: its folder /nonexistent does not exist",
+        ),
+        (
+            vec!["twin", "--serial", "two words"],
+            "--serial two words: must be 1 to 32 letters",
+        ),
     ] {
         let out = output(&args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
@@ -432,6 +447,48 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
         "{} lines kept",
         kept.lines().count()
     );
+    // The recording carries the device's settings: allan needs neither columns nor scale,
+    // and replay runs the profile it was recorded with (the file's, set last above).
+    assert!(
+        kept.lines().any(|l| l.starts_with("profile,fs_hz=3000,")
+            && l.contains(",x_sign=1,")
+            && l.contains(",counts_per_inch=800,")),
+        "{}",
+        &kept[..600.min(kept.len())]
+    );
+    let out = lab()
+        .args(["allan", "--out", "target/lab/cli-allan"])
+        .arg(&file)
+        .output()
+        .expect("allan runs");
+    let said = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        ["x: ", "y: ", "z: "].iter().all(|a| said.contains(a)),
+        "{said}"
+    );
+    let out = lab()
+        .arg("replay")
+        .arg(&file)
+        .output()
+        .expect("replay runs");
+    let said = text(&out.stdout);
+    assert!(
+        said.contains("settings: the recording's profile: 800 counts/inch"),
+        "{said}{}",
+        text(&out.stderr)
+    );
+    let out = lab()
+        .args(["replay", "--m-s2-per-lsb", "1e9"])
+        .arg(&file)
+        .output()
+        .expect("replay runs");
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.starts_with("error: --m-s2-per-lsb 1e9: takes 0.0047884..=2.3942 here"),
+        "{err}"
+    );
     let _ = std::fs::remove_file(&file);
     twin.kill().expect("the twin stops");
     twin.wait().expect("reaped");
@@ -604,4 +661,46 @@ fn a_list_without_a_board_says_none_was_found() {
     );
     let out = output(&["device", "--json", "list"]);
     assert_eq!(text(&out.stdout).trim(), "[]");
+}
+
+#[test]
+fn a_simulated_recording_replays_as_it_was_simulated() {
+    let file = std::env::temp_dir().join(format!("imu-cli-{}-sim.csv", std::process::id()));
+    let sim = lab()
+        .args([
+            "simulate",
+            "--scene",
+            "adxl335-stroke",
+            "--seconds",
+            "3",
+            "--csv",
+        ])
+        .arg(&file)
+        .output()
+        .expect("simulate runs");
+    assert_eq!(sim.status.code(), Some(0), "{}", text(&sim.stderr));
+    let replay = lab()
+        .arg("replay")
+        .arg(&file)
+        .output()
+        .expect("replay runs");
+    assert_eq!(replay.status.code(), Some(0), "{}", text(&replay.stderr));
+    // The same track, row for row: the scene's settings went with its codes.
+    let rows = |t: &str| -> Vec<String> {
+        t.lines()
+            .skip_while(|l| !l.trim_start().starts_with("t [s]"))
+            .map(String::from)
+            .collect()
+    };
+    let (a, b) = (rows(&text(&sim.stdout)), rows(&text(&replay.stdout)));
+    assert!(a.len() > 4, "{}", text(&sim.stdout));
+    assert_eq!(a, b);
+    // allan takes the columns and the scale from the file.
+    let out = lab()
+        .args(["allan", "--out", "target/lab/cli-allan-sim"])
+        .arg(&file)
+        .output()
+        .expect("allan runs");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let _ = std::fs::remove_file(&file);
 }

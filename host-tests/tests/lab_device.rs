@@ -254,9 +254,20 @@ fn a_scene_plays_in_its_own_time_on_a_device_at_another_rate() {
 #[test]
 fn a_written_recording_reads_back_unchanged() {
     use host_tests::formats::recording::{parse, write, Recording};
-    let rec = Recording {
-        fs: 4000,
-        samples: scene(0.1).codes,
-    };
-    assert_eq!(parse(write(&rec).as_bytes(), None).expect("parses"), rec);
+    let mut p = Profile::default();
+    p.set(Key::FsHz, 4000.0).expect("fits");
+    p.set(Key::LowpassFcHz, 200.0).expect("fits");
+    for profile in [
+        None,
+        Some(host_tests::device::profile::to_text(
+            &host_tests::device::profile::pairs_of(&p),
+        )),
+    ] {
+        let rec = Recording {
+            fs: 4000,
+            samples: scene(0.1).codes,
+            profile,
+        };
+        assert_eq!(parse(write(&rec).as_bytes(), None).expect("parses"), rec);
+    }
 }

@@ -61,7 +61,7 @@ fn the_real_recording_has_the_noise_its_readme_states() {
             columns: vec!["ax".into(), "ay".into(), "az".into()],
             fs: None,
             time_column: None,
-            units: Units::Counts(9.806_65 / 16_384.0),
+            units: Some(Units::Counts(9.806_65 / 16_384.0)),
         },
     )
     .expect("the recording reads");

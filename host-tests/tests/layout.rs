@@ -80,10 +80,12 @@ fn the_world_makes_codes_and_never_runs_the_core() {
 
 #[test]
 fn the_device_layer_does_not_reach_up_to_commands() {
+    // The formats stand alone (above), so the device may use them (a number in a message, a
+    // quoted line) without a cycle.
     for (path, text) in sources("device") {
         for module in crate_paths(&text) {
             assert!(
-                ["device", "world", "stats"].contains(&module.as_str()),
+                ["device", "world", "stats", "formats"].contains(&module.as_str()),
                 "{} uses crate::{module}",
                 path.display()
             );

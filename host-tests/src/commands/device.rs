@@ -12,6 +12,7 @@ use imu_core::protocol::{ErrorCode, Info, Source};
 use serde::Serialize;
 
 use crate::device::client::{Client, ClientError, Found, HidLink, Link, Recorded};
+use crate::device::profile::{self, profile_of, show, SCHEMES};
 use crate::device::usbip::BUSID;
 use crate::device::usbip_host::{UsbIpError, UsbIpHost};
 use crate::formats::recording;
@@ -94,56 +95,12 @@ pub enum ConfigOp {
     },
 }
 
-/// The words `scheme` takes, by value.
-const SCHEMES: [&str; 2] = ["euler", "trapezoid"];
-
-/// A key's value as a user reads it (and writes it: `config set` takes it back).
-fn show(key: Key, v: f64) -> String {
-    match key.kind() {
-        Kind::Optional if v.is_nan() => "off".into(),
-        Kind::Flag => (if v == 1.0 { "on" } else { "off" }).into(),
-        _ if key == Key::Scheme => SCHEMES
-            .get(v as usize)
-            .map_or_else(|| format!("{v}"), |w| (*w).into()),
-        // Exact (it reads back as itself), in exponent form when huge or tiny.
-        _ => crate::formats::number::Num(v).to_string(),
-    }
-}
-
-/// What a key's value must be, in words, for an error message.
-fn wanted(key: Key) -> &'static str {
-    match key.kind() {
-        Kind::Flag => "must be on or off",
-        Kind::Optional => "must be a finite number or off",
-        _ if key == Key::Scheme => "must be euler or trapezoid",
-        _ => "must be a finite number",
-    }
-}
-
-/// `KEY=VALUE` parsed.
+/// `KEY=VALUE` parsed ([`profile::read_pair`]).
 ///
 /// # Errors
-/// [`Error::Input`] (exit 2) naming the pair: no `=`, an unknown key, a value the key does
-/// not take (a number; `off`/`on` where the key takes them; `euler`/`trapezoid`).
+/// [`Error::Input`] (exit 2) naming the pair and what the key takes.
 pub fn parse_pair(pair: &str) -> Result<(Key, f64), Error> {
-    let bad = |why: &str| Error::Input(format!("config set {pair}: {why}"));
-    let (k, v) = pair
-        .split_once('=')
-        .ok_or_else(|| bad("must be KEY=VALUE"))?;
-    let key = Key::from_name(k.trim()).ok_or_else(|| {
-        let names: Vec<&str> = Key::ALL.iter().map(|k| k.name()).collect();
-        bad(&format!("unknown key; the keys: {}", names.join(", ")))
-    })?;
-    let v = v.trim();
-    let word = match key.kind() {
-        Kind::Optional if v == "off" => Some(f64::NAN),
-        Kind::Flag => ["off", "on"].iter().position(|w| *w == v).map(|i| i as f64),
-        _ if key == Key::Scheme => SCHEMES.iter().position(|w| *w == v).map(|i| i as f64),
-        _ => None,
-    };
-    let number = || v.parse::<f64>().ok().filter(|x| x.is_finite());
-    let value = word.or_else(number).ok_or_else(|| bad(wanted(key)))?;
-    Ok((key, value))
+    profile::read_pair(pair).map_err(|why| Error::Input(format!("config set {why}")))
 }
 
 /// Every pair of one `config set` parsed; a key given twice is refused (which one was
@@ -207,29 +164,6 @@ pub fn profile_pairs(
     }
     out.extend(cli);
     Ok(out)
-}
-
-/// A recording's file checked before the device is asked for anything: not a folder, and
-/// its folder exists (a typo in a path is not created silently).
-///
-/// # Errors
-/// [`Error::Arg`] naming `--out`.
-fn writable(out: &std::path::Path) -> Result<(), Error> {
-    if out.is_dir() {
-        return Err(Error::arg(
-            "out",
-            out.display(),
-            "is a folder; give a file name",
-        ));
-    }
-    match out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        Some(dir) if !dir.is_dir() => Err(Error::arg(
-            "out",
-            out.display(),
-            format!("its folder {} does not exist", dir.display()),
-        )),
-        _ => Ok(()),
-    }
 }
 
 #[derive(Serialize)]
@@ -310,17 +244,6 @@ fn info<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
         }
     }
     Ok(s)
-}
-
-/// The profile `pairs` (as `config get` reads them) describe.
-fn profile_of(pairs: &[(Key, f64)]) -> Profile {
-    let mut p = Profile::default();
-    for &(k, v) in pairs {
-        // A value this host's table refuses cannot come from a device of this protocol;
-        // the key keeps its default, and the range shown is the default profile's.
-        let _ = p.set(k, v);
-    }
-    p
 }
 
 /// What `key` takes on this device with the rest of `p`, as a user writes it, with the
@@ -436,6 +359,8 @@ static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 /// Records `seconds` (checked by [`check_args`], like `out`) into `out`.
 fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &PathBuf, json: bool) -> Outcome {
     let fs = c.info()?.fs_hz;
+    // The settings it records under go into the file: `replay`, `allan` and `drift` read them.
+    let settings = c.config()?;
     let n = (seconds * f64::from(fs)).round().max(1.0) as usize;
     // Ctrl-C ends the recording and keeps what arrived (a second one would need the
     // handler again: a process installs it once).
@@ -446,6 +371,7 @@ fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &PathBuf, json: bool) -
     let mut text = recording::write(&recording::Recording {
         fs,
         samples: rec.samples.clone(),
+        profile: Some(profile::to_text(&settings)),
     });
     if rec.interrupted {
         text.insert_str(
@@ -621,7 +547,7 @@ fn check_args(a: &Args) -> Result<(), Error> {
         } => profile_pairs(file.as_deref(), pairs).map(|_| ()),
         What::Record { seconds, out } => {
             positive("seconds", *seconds)?;
-            writable(out)
+            super::writable("out", out)
         }
         _ => Ok(()),
     }

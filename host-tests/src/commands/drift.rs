@@ -255,18 +255,27 @@ pub struct Args {
 pub fn run(a: &Args) -> super::Outcome {
     use super::{positive, Error, COLORS};
     use crate::formats::plot;
-    let Some(scale) = a.rec.scale else {
+    if let Some(u) = &a.rec.units {
         return Err(Error::arg(
-            "scale",
-            "missing",
-            "the drift experiment runs the core on raw counts; give their scale",
+            "units",
+            u,
+            "the drift experiment runs the core on raw counts; give their --scale",
         ));
-    };
+    }
     positive("calibrate-s", a.calibrate_s)?;
     for &t in &a.t {
         positive("t", t)?;
     }
     let d = a.rec.read()?;
+    // --scale, else the recording's profile (`read` refused a file with neither).
+    let scale = a.rec.scale.or(d.counts_scale);
+    let Some(scale) = scale else {
+        return Err(Error::arg(
+            "scale",
+            "missing",
+            "give the counts' scale [m/s^2]",
+        ));
+    };
     let figs: Vec<_> = a.rec.allan(&d)?.into_iter().map(|(_, f)| f).collect();
     let rows = experiment(&d.names, &d.raw, d.fs, scale, a.calibrate_s, &a.t, &figs)
         .map_err(Error::Input)?;

@@ -153,6 +153,29 @@ pub fn open(path: &Path) -> Result<std::io::BufReader<std::fs::File>, Error> {
         .map_err(|e| Error::file(path, e))
 }
 
+/// A file to be written, checked before any work: not a folder, and its folder exists (a
+/// typo in a path is not created silently, and a long run does not fail at its end).
+///
+/// # Errors
+/// [`Error::Arg`] naming `--{name}`.
+pub fn writable(name: &'static str, out: &Path) -> Result<(), Error> {
+    if out.is_dir() {
+        return Err(Error::arg(
+            name,
+            out.display(),
+            "is a folder; give a file name",
+        ));
+    }
+    match out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(dir) if !dir.is_dir() => Err(Error::arg(
+            name,
+            out.display(),
+            format!("its folder {} does not exist", dir.display()),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Writes `name` into the `--out` directory `dir` (created if missing); returns its path.
 pub fn write_out(dir: &Path, name: &str, contents: &str) -> Result<PathBuf, Error> {
     std::fs::create_dir_all(dir).map_err(|e| Error::file(dir, e))?;
@@ -194,8 +217,8 @@ pub const COLORS: [&str; 6] = [
 pub struct Recording {
     /// The CSV file (a header row; metadata lines before it are skipped).
     pub file: PathBuf,
-    /// Columns to analyse, by header name.
-    #[arg(long, value_delimiter = ',', required = true)]
+    /// Columns to analyse, by header name (a device's recording: x,y,z unless given).
+    #[arg(long, value_delimiter = ',')]
     pub columns: Vec<String>,
     /// Sampling rate [Hz] (else a time column or an `fs,<Hz>` metadata line).
     #[arg(long, allow_negative_numbers = true)]
@@ -203,7 +226,8 @@ pub struct Recording {
     /// A time column [s] to take the rate from (gaps and jitter are reported).
     #[arg(long)]
     pub time_column: Option<String>,
-    /// Values are raw counts of this many m/s^2 each.
+    /// Values are raw counts of this many m/s^2 each (a device's recording: its profile's
+    /// `m_s2_per_lsb` unless given).
     #[arg(long, allow_negative_numbers = true, conflicts_with = "units")]
     pub scale: Option<f64>,
     /// Values are already in `g` or `m_s2`.
@@ -215,21 +239,17 @@ impl Recording {
     /// Reads and checks the recording.
     ///
     /// # Errors
-    /// Units not given or unknown; the file unreadable or not as described.
+    /// Units unknown, or not given for a file without a profile; the file unreadable or not
+    /// as described.
     pub fn read(&self) -> Result<crate::formats::columns::Data, Error> {
         use crate::formats::columns::{self, Units};
         let units = match (self.scale, self.units.as_deref()) {
-            (Some(s), _) => Units::Counts(positive("scale", s)?),
-            (None, Some("g")) => Units::G,
-            (None, Some("m_s2")) => Units::MS2,
+            (Some(s), _) => Some(Units::Counts(positive("scale", s)?)),
+            (None, Some("g")) => Some(Units::G),
+            (None, Some("m_s2")) => Some(Units::MS2),
             (None, Some(u)) => return Err(Error::arg("units", u, "`g` or `m_s2`")),
-            (None, None) => {
-                return Err(Error::arg(
-                    "scale",
-                    "missing",
-                    "give --scale M_S2_PER_COUNT for raw counts, or --units g|m_s2",
-                ))
-            }
+            // The recording's profile, or an error naming --scale.
+            (None, None) => None,
         };
         columns::read(
             open(&self.file)?,

@@ -1,9 +1,9 @@
 //! `cargo lab replay`: a recording of ADC codes ([`crate::formats::recording`]) through the
 //! whole device ([`crate::device::track`]).
 
+use crate::device::profile;
 use crate::device::track;
 use crate::formats::recording;
-use crate::world::scene;
 
 use super::{positive, Error, Outcome};
 
@@ -19,12 +19,13 @@ pub struct Args {
     /// Sampling rate [Hz], if the file does not say.
     #[arg(long, allow_negative_numbers = true)]
     pub fs: Option<f64>,
-    /// Acceleration per ADC code [m/s^2] (default: ADXL335 on a 12-bit ratiometric ADC).
-    #[arg(long, allow_negative_numbers = true, default_value_t = scene::ADXL335_LSB)]
-    pub m_s2_per_lsb: f64,
-    /// ADC resolution [bits].
-    #[arg(long, default_value_t = 12)]
-    pub adc_bits: u8,
+    /// Acceleration per ADC code [m/s^2], instead of the recording's profile (without one:
+    /// an ADXL335 on a 12-bit ratiometric ADC, 0.0239 m/s^2).
+    #[arg(long, allow_negative_numbers = true)]
+    pub m_s2_per_lsb: Option<f64>,
+    /// ADC resolution [bits], instead of the recording's profile (without one: 12).
+    #[arg(long)]
+    pub adc_bits: Option<u8>,
     /// Interval of the printed track [s].
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.5)]
     pub every: f64,
@@ -43,17 +44,82 @@ pub fn run(a: &Args) -> Outcome {
     let every = positive("every", a.every)?;
     let rec =
         recording::parse(super::open(&a.file)?, fs_arg).map_err(|e| Error::file(&a.file, e))?;
-    let config = imu_core::Config {
-        fs_hz: rec.fs,
-        m_s2_per_lsb: a.m_s2_per_lsb,
-        adc_bits: a.adc_bits,
-        ..imu_core::Config::default()
+    // The device's settings as recorded, else the board's defaults; the flags change them.
+    let recorded = rec
+        .profile
+        .as_deref()
+        .map(profile::from_text)
+        .transpose()
+        .map_err(|e| Error::file(&a.file, e))?;
+    let (mut p, from) = match &recorded {
+        Some(pairs) => (profile::profile_of(pairs), "the recording's profile"),
+        None => (
+            imu_core::Profile::default(),
+            "the defaults (the file has no profile)",
+        ),
     };
-    let t = track::run(&config, rec.samples, every).map_err(|e| Error::Input(e.to_string()))?;
+    p.config.fs_hz = rec.fs;
+    if let Some(m) = a.m_s2_per_lsb {
+        p.config.m_s2_per_lsb = m;
+    }
+    if let Some(b) = a.adc_bits {
+        p.config.adc_bits = b;
+    }
+    p.validate().map_err(|e| argument(e, &p))?;
+    let t = track::run_mapped(&p.config, &p.map, rec.samples, every)
+        .map_err(|e| Error::Input(e.to_string()))?;
     let report = if a.json {
         super::json(&t)?
     } else {
-        format!("{}\n{}", a.file.display(), track::table(&t))
+        let overridden: Vec<&str> = [
+            a.m_s2_per_lsb.map(|_| "--m-s2-per-lsb"),
+            a.adc_bits.map(|_| "--adc-bits"),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        let with = if overridden.is_empty() {
+            String::new()
+        } else {
+            format!(", changed by {}", overridden.join(" and "))
+        };
+        format!(
+            "{}\nsettings: {from}{with}: {} counts/inch, {} m/s^2 per code at {} bits, drift \
+             control {}\n{}",
+            a.file.display(),
+            p.config.counts_per_inch,
+            imu_core::profile::Shown(p.config.m_s2_per_lsb),
+            p.config.adc_bits,
+            if p.config.drift.is_some() {
+                "on"
+            } else {
+                "off"
+            },
+            track::table(&t)
+        )
     };
     super::tracked(&t, report)
+}
+
+/// A refusal of the replayed profile, naming the flag where the user gave the value.
+fn argument(e: imu_core::ProfileError, p: &imu_core::Profile) -> Error {
+    use imu_core::profile::Key;
+    let flag = match e.key() {
+        Key::MS2PerLsb => Some("m-s2-per-lsb"),
+        Key::AdcBits => Some("adc-bits"),
+        _ => None,
+    };
+    match flag {
+        Some(name) => Error::arg(
+            name,
+            imu_core::profile::Shown(p.get(e.key())),
+            format!(
+                "{}{}",
+                p.range(e.key())
+                    .map_or_else(String::new, |r| format!("takes {r} here: ")),
+                e
+            ),
+        ),
+        None => Error::Input(format!("the recording's profile: {e}")),
+    }
 }

@@ -1,7 +1,9 @@
 //! `cargo lab simulate`: one scene of the catalogue through the whole device
 //! ([`crate::device::track`]): the cursor's track and what the device sends.
 
+use crate::device::profile;
 use crate::device::track;
+use crate::formats::recording;
 use crate::world::scene;
 
 use super::{positive, Error, Outcome};
@@ -59,16 +61,26 @@ pub fn run(a: &Args) -> Outcome {
         ));
     }
     let every = positive("every", a.every)?;
+    if let Some(path) = &a.csv {
+        super::writable("csv", path)?;
+    }
     let config = track::scene_config(sc);
     let samples = sc.three_axes(seconds, a.seed);
     if let Some(path) = &a.csv {
-        let mut csv = format!(
-            "# cargo lab simulate --scene {} --seconds {seconds} --seed {}\nfs,{}\nn,x,y,z\n",
-            sc.name, a.seed, sc.fs
+        // The scene's device settings go with its codes: `replay` runs them as simulated.
+        let rec = recording::Recording {
+            fs: config.fs_hz,
+            samples: samples.clone(),
+            profile: Some(profile::to_text(&profile::pairs_of(
+                &imu_core::Profile::new(config),
+            ))),
+        };
+        let csv = format!(
+            "# cargo lab simulate --scene {} --seconds {seconds} --seed {}\n{}",
+            sc.name,
+            a.seed,
+            recording::write(&rec)
         );
-        for (i, s) in samples.iter().enumerate() {
-            csv += &format!("{i},{},{},{}\n", s[0], s[1], s[2]);
-        }
         std::fs::write(path, csv).map_err(|e| Error::file(path, e))?;
     }
     let t = track::run(&config, samples, every).map_err(|e| Error::Run(e.to_string()))?;

@@ -6,10 +6,13 @@
 //! - [`usbip`] and [`twin`]: `imu_app` as a USB/IP device, in real time, with its profile
 //!   in [`flash`];
 //! - [`usbip_host`] and [`client`]: the host's side of the configuration interface, over
-//!   USB/IP (the twin) or `hidapi` (a board).
+//!   USB/IP (the twin) or `hidapi` (a board);
+//! - [`profile`]: a profile's keys as text, as `config` and a recording's `profile,` line
+//!   carry them.
 
 pub mod client;
 pub mod flash;
+pub mod profile;
 pub mod track;
 pub mod trial;
 pub mod twin;

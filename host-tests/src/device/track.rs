@@ -3,7 +3,7 @@
 //! exactly as the firmware does. Used by `cargo lab simulate` and `cargo lab replay`.
 
 use imu_core::hid::{screen_motion, Reporter};
-use imu_core::{Config, ConfigError, Event, Phase, Tracker};
+use imu_core::{AxisMap, Config, ConfigError, Event, Phase, Tracker};
 use serde::Serialize;
 
 use crate::world::scene::Scene;
@@ -58,12 +58,27 @@ pub struct Track {
 }
 
 /// Runs `samples` (`[x, y, z]` codes at `config.fs_hz`) through the device, recording the
-/// cursor every `every_s` seconds.
+/// cursor every `every_s` seconds, with the board's axis mapping.
 ///
 /// # Errors
 /// The configuration's first invalid field.
 pub fn run(
     config: &Config,
+    samples: impl IntoIterator<Item = [u16; 3]>,
+    every_s: f64,
+) -> Result<Track, ConfigError> {
+    run_mapped(config, &AxisMap::default(), samples, every_s)
+}
+
+/// [`run`] with the axis mapping `map`, as the device applies it: each sample triple in
+/// sensor order routed to the tracker's order ([`AxisMap::route`]), the counts given their
+/// signs ([`AxisMap::screen`]) before they become HID motion.
+///
+/// # Errors
+/// The configuration's first invalid field.
+pub fn run_mapped(
+    config: &Config,
+    map: &AxisMap,
     samples: impl IntoIterator<Item = [u16; 3]>,
     every_s: f64,
 ) -> Result<Track, ConfigError> {
@@ -78,7 +93,7 @@ pub fn run(
     let mut last_rejection = None;
     for s in samples {
         n += 1;
-        match tracker.feed(&[s]) {
+        match tracker.feed(&[map.route(s)]) {
             Some(Event::Calibrated(_)) => from = Some(n as f64 / fs),
             Some(Event::Rejected { axis, error }) => {
                 let name = ["x", "y", "z"]
@@ -90,7 +105,7 @@ pub fn run(
             None => {}
         }
         if n % per_poll == 0 {
-            let (dx, dy) = screen_motion(tracker.take_counts());
+            let (dx, dy) = screen_motion(map.screen(tracker.take_counts()));
             reporter.add_motion(dx, dy);
             while let Some(r) = reporter.pending() {
                 reporter.sent(&r);

@@ -14,6 +14,9 @@
 //!   `fs` metadata line. A time column's steps are checked: gaps (a step over 1.5x the
 //!   median) and jitter (a step more than 1 % off the median) are counted and reported.
 //! - Units: `--scale M_S2_PER_LSB` for raw counts, or `--units g` / `--units m_s2`.
+//! - A recording of the device (`device record`, `simulate --csv`) carries a `profile,` line
+//!   ([`super::recording`]): then the columns default to `x,y,z` and the scale to its
+//!   `m_s2_per_lsb`.
 //!
 //! Every problem is an error naming the line; nothing panics. The file is read as a stream
 //! of bounded lines ([`super::lines`]); only the requested columns are kept.
@@ -21,7 +24,7 @@
 use std::io::BufRead;
 
 use crate::formats::lines::{content_lines, quote};
-use crate::formats::recording::{err, RecordingError};
+use crate::formats::recording::{err, profile_number, read_profile, RecordingError};
 
 /// How the values become m/s^2.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,8 +46,8 @@ pub struct Options {
     pub fs: Option<f64>,
     /// Name of a time column [s], if any.
     pub time_column: Option<String>,
-    /// Units of the values.
-    pub units: Units,
+    /// Units of the values; `None` takes the recording's profile's scale.
+    pub units: Option<Units>,
 }
 
 /// The columns read.
@@ -62,6 +65,12 @@ pub struct Data {
     pub fs_source: &'static str,
     /// Findings about the time column (gaps, jitter), for the report.
     pub notes: Vec<String>,
+    /// The device's settings, `(key name, value)`, if the file carries them.
+    pub profile: Option<Vec<(String, String)>>,
+    /// Where the units came from.
+    pub units_source: &'static str,
+    /// The scale of raw counts [m/s^2 per count], when the values are counts.
+    pub counts_scale: Option<f64>,
 }
 
 fn is_number(s: &str) -> bool {
@@ -161,39 +170,57 @@ impl Header {
 /// # Errors
 /// The first problem, with its line.
 pub fn read(input: impl BufRead, o: &Options) -> Result<Data, RecordingError> {
-    if o.columns.is_empty() {
-        return err(0, "--columns: name at least one column");
-    }
     let mut fs_meta = None;
+    let mut profile: Option<Vec<(String, String)>> = None;
+    let mut columns = o.columns.clone();
     let mut header: Option<Header> = None;
-    let mut raw: Vec<Vec<f64>> = vec![Vec::new(); o.columns.len()];
+    let mut raw: Vec<Vec<f64>> = vec![];
     let mut times = vec![];
     for l in content_lines(input) {
         let l = l?;
         let (line, fields) = (l.number, l.fields());
         match &mut header {
             Some(h) => h.row(line, &fields, &mut raw, &mut times)?,
-            None => {
-                let all_names = fields.iter().all(|f| !f.is_empty() && !is_number(f));
-                let has_all = o.columns.iter().all(|c| fields.contains(&c.as_str()));
-                if all_names && has_all {
-                    header = Some(Header::new(line, &fields, o)?);
-                } else if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") {
-                    match fields[1].parse::<f64>() {
-                        Ok(v) if v.is_finite() && v > 0.0 => fs_meta = Some(v),
-                        _ => {
-                            return err(
-                                line,
-                                format!(
-                                    "`{}`: the sampling rate must be a number > 0",
-                                    quote(&l.text)
-                                ),
-                            )
-                        }
+            None if fields[0].eq_ignore_ascii_case("profile") => {
+                profile = Some(read_profile(&fields).or_else(|e| err(line, e))?);
+            }
+            None if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") => {
+                match fields[1].parse::<f64>() {
+                    Ok(v) if v.is_finite() && v > 0.0 => fs_meta = Some(v),
+                    _ => {
+                        return err(
+                            line,
+                            format!(
+                                "`{}`: the sampling rate must be a number > 0",
+                                quote(&l.text)
+                            ),
+                        )
                     }
+                }
+            }
+            None => {
+                // A device's recording names its axes x, y, z.
+                if columns.is_empty() && profile.is_some() {
+                    columns = ["x", "y", "z"].map(String::from).to_vec();
+                }
+                if columns.is_empty() {
+                    return err(
+                        0,
+                        "--columns: name the columns to read (only a device's recording, \
+                         with its `profile` line, has x,y,z by default)",
+                    );
+                }
+                let all_names = fields.iter().all(|f| !f.is_empty() && !is_number(f));
+                let has_all = columns.iter().all(|c| fields.contains(&c.as_str()));
+                if all_names && has_all {
+                    let o = Options {
+                        columns: columns.clone(),
+                        ..o.clone()
+                    };
+                    header = Some(Header::new(line, &fields, &o)?);
+                    raw = vec![Vec::new(); columns.len()];
                 } else if all_names && fields.len() > 2 {
-                    let missing: Vec<&str> = o
-                        .columns
+                    let missing: Vec<&str> = columns
                         .iter()
                         .map(String::as_str)
                         .filter(|c| !fields.contains(c))
@@ -211,7 +238,7 @@ pub fn read(input: impl BufRead, o: &Options) -> Result<Data, RecordingError> {
         }
     }
     let Some(h) = header else {
-        return err(0, format!("no header row naming {}", o.columns.join(", ")));
+        return err(0, format!("no header row naming {}", columns.join(", ")));
     };
     if raw[0].is_empty() {
         return err(h.line, "a header and no data rows");
@@ -262,7 +289,22 @@ pub fn read(input: impl BufRead, o: &Options) -> Result<Data, RecordingError> {
     if !(fs.is_finite() && fs > 0.0) {
         return err(0, format!("sampling rate {fs} Hz: must be > 0"));
     }
-    let factor = match o.units {
+    let recorded = profile
+        .as_ref()
+        .and_then(|p| profile_number(p, "m_s2_per_lsb"))
+        .map(Units::Counts);
+    let (units, units_source) = match (o.units, recorded) {
+        (Some(u), _) => (u, "the arguments"),
+        (None, Some(u)) => (u, "the recording's profile"),
+        (None, None) => {
+            return err(
+                0,
+                "--scale: give M_S2_PER_COUNT for raw counts, or --units g|m_s2 (the file has \
+                 no `profile` line with the device's scale)",
+            )
+        }
+    };
+    let factor = match units {
         Units::Counts(s) if s.is_finite() && s > 0.0 => s,
         Units::Counts(s) => return err(0, format!("--scale {s}: must be a finite number > 0")),
         Units::G => 9.806_65,
@@ -273,12 +315,18 @@ pub fn read(input: impl BufRead, o: &Options) -> Result<Data, RecordingError> {
         .map(|c| c.iter().map(|v| v * factor).collect())
         .collect();
     Ok(Data {
-        names: o.columns.clone(),
+        names: columns,
         raw,
         m_s2,
         fs,
         fs_source,
         notes,
+        profile,
+        units_source,
+        counts_scale: match units {
+            Units::Counts(s) => Some(s),
+            _ => None,
+        },
     })
 }
 
@@ -291,7 +339,14 @@ mod tests {
             columns: cols.iter().map(|s| s.to_string()).collect(),
             fs: None,
             time_column: None,
-            units: Units::Counts(0.5),
+            units: Some(Units::Counts(0.5)),
+        }
+    }
+
+    impl Options {
+        fn with_units(mut self, units: Option<Units>) -> Self {
+            self.units = units;
+            self
         }
     }
 
@@ -316,6 +371,12 @@ mod tests {
     fn malformed_and_edge_case_files_name_the_problem() {
         let o = opts(&["ax"]);
         fails("", &o, 0, "no header row");
+        fails(
+            "fs,1\nax\n1\n",
+            &opts(&[]),
+            0,
+            "--columns: name the columns",
+        );
         fails("fs,100\nax,ay\n", &o, 2, "no data rows");
         fails("fs,100\nax,ay\n1,x\n2,3\n", &opts(&["ay"]), 3, "ay = `x`");
         fails(
@@ -333,7 +394,7 @@ mod tests {
         fails(
             "fs,10\nax\n1\n",
             &Options {
-                units: Units::Counts(-1.0),
+                units: Some(Units::Counts(-1.0)),
                 ..opts(&["ax"])
             },
             0,
@@ -344,6 +405,34 @@ mod tests {
             read("fs,10\nax\n1\n".as_bytes(), &o).map(|d| d.raw[0].len()),
             Ok(1)
         );
+    }
+
+    #[test]
+    fn a_device_recording_gives_its_columns_and_scale() {
+        let o = Options {
+            columns: vec![],
+            fs: None,
+            time_column: None,
+            units: None,
+        };
+        let text = "fs,100\nprofile,fs_hz=100,m_s2_per_lsb=0.5\nn,x,y,z\n0,2,4,6\n";
+        let d = read(text.as_bytes(), &o).expect("valid");
+        assert_eq!(d.names, ["x", "y", "z"]);
+        assert_eq!(
+            (d.m_s2[2][0], d.units_source),
+            (3.0, "the recording's profile")
+        );
+        // The arguments still win, and without a profile the scale must be given.
+        let given = Options {
+            units: Some(Units::Counts(1.0)),
+            ..o.clone()
+        };
+        assert_eq!(
+            read(text.as_bytes(), &given).expect("valid").m_s2[2][0],
+            6.0
+        );
+        let bare = "fs,100\nn,x,y,z\n0,2,4,6\n";
+        fails(bare, &opts(&["x"]).with_units(None), 0, "no `profile` line");
     }
 
     #[test]
@@ -361,7 +450,7 @@ mod tests {
     fn time_column_gives_the_rate_and_reports_gaps_and_jitter() {
         let mut o = opts(&["ax"]);
         o.time_column = Some("t".into());
-        o.units = Units::G;
+        o.units = Some(Units::G);
         let text = "t,ax\n0.00,1\n0.01,1\n0.02,1\n0.05,1\n0.0605,1\n0.07,1\n";
         let d = read(text.as_bytes(), &o).expect("valid");
         assert!((d.fs - 100.0).abs() < 1e-9);

@@ -5,6 +5,8 @@
 //! ```text
 //! # comments and blank lines are skipped anywhere
 //! fs,3000          <- optional: the sampling rate [Hz], before the header
+//! profile,fs_hz=3000,m_s2_per_lsb=0.0239...,adc_bits=12,...   <- optional: the device's
+//!                     settings while it recorded (every key, as `config get` prints them)
 //! n,x,y,z          <- header: first column `n` (sample index) or `t` (time [s])
 //! 0,2048,2051,2457 <- X, Y, Z as ADC codes, integers 0..=65535
 //! 1,2049,2050,2456
@@ -12,7 +14,8 @@
 //! The sampling rate comes from `--fs`, else the `fs,` line, else the `t` column's mean
 //! step; two sources that disagree are an error. Sample indices must run on without gaps
 //! (a gap is lost time, and lost time is a position error); times must increase with a
-//! step within 1 % of the mean. Every problem is reported with its line number. The file is
+//! step within 1 % of the mean; a `profile` line's `fs_hz` must agree with them too. Every
+//! problem is reported with its line number. The file is
 //! read as a stream of bounded lines ([`super::lines`]).
 
 use std::fmt;
@@ -27,6 +30,10 @@ pub struct Recording {
     pub fs: u32,
     /// `[x, y, z]` codes in order.
     pub samples: Vec<[u16; 3]>,
+    /// The device's settings while it recorded, `(key name, value)` as `config get` shows
+    /// them, if the file carries them (`device record` and `simulate --csv` write them;
+    /// `replay`, `allan` and `drift` read them; `crate::device::profile` reads the values).
+    pub profile: Option<Vec<(String, String)>>,
 }
 
 /// What is wrong with a file, and where (1-based line numbers).
@@ -65,11 +72,51 @@ enum Clock {
 /// The recording in the format [`parse`] reads: the `fs,` line, the header `n,x,y,z`, one
 /// row per sample.
 pub fn write(rec: &Recording) -> String {
-    let mut s = format!("# raw ADC codes, as sampled\nfs,{}\nn,x,y,z\n", rec.fs);
+    let mut s = format!("# raw ADC codes, as sampled\nfs,{}\n", rec.fs);
+    if let Some(pairs) = &rec.profile {
+        s += "# the device's settings while it recorded\n";
+        s += &profile_line(pairs);
+        s.push('\n');
+    }
+    s += "n,x,y,z\n";
     for (i, [x, y, z]) in rec.samples.iter().enumerate() {
         s += &format!("{i},{x},{y},{z}\n");
     }
     s
+}
+
+/// The `profile,KEY=VALUE,...` line of `pairs`.
+pub fn profile_line(pairs: &[(String, String)]) -> String {
+    let mut s = String::from("profile");
+    for (k, v) in pairs {
+        s += &format!(",{k}={v}");
+    }
+    s
+}
+
+/// The pairs of a `profile` line's `fields` (the word `profile` first), or why not: each
+/// `KEY=VALUE`, no key twice.
+pub(crate) fn read_profile(fields: &[&str]) -> Result<Vec<(String, String)>, String> {
+    let mut pairs: Vec<(String, String)> = Vec::with_capacity(fields.len());
+    for f in &fields[1..] {
+        let Some((k, v)) = f.split_once('=') else {
+            return Err(format!("profile: `{}` is not KEY=VALUE", quote(f)));
+        };
+        let (k, v) = (k.trim(), v.trim());
+        if pairs.iter().any(|(j, _)| j == k) {
+            return Err(format!("profile: {} is given twice", quote(k)));
+        }
+        pairs.push((k.to_string(), v.to_string()));
+    }
+    Ok(pairs)
+}
+
+/// The number a profile's `key` holds, if it has that key and it is a number.
+pub(crate) fn profile_number(pairs: &[(String, String)], key: &str) -> Option<f64> {
+    pairs
+        .iter()
+        .find(|(k, _)| k == key)
+        .and_then(|(_, v)| v.parse().ok())
 }
 
 /// Parses a recording; `fs_arg` is `--fs`, if given.
@@ -78,6 +125,7 @@ pub fn write(rec: &Recording) -> String {
 /// The first problem, with its line.
 pub fn parse(input: impl BufRead, fs_arg: Option<f64>) -> Result<Recording, RecordingError> {
     let mut fs_line: Option<f64> = None;
+    let mut profile: Option<Vec<(String, String)>> = None;
     let mut clock = None;
     let mut samples = vec![];
     let mut first_stamp: Option<(usize, f64)> = None;
@@ -106,6 +154,13 @@ pub fn parse(input: impl BufRead, fs_arg: Option<f64>) -> Result<Recording, Reco
                         )
                     }
                 }
+                continue;
+            }
+            if fields[0].eq_ignore_ascii_case("profile") {
+                if profile.is_some() {
+                    return err(line, "a second `profile` line: which settings are they?");
+                }
+                profile = Some(read_profile(&fields).or_else(|e| err(line, e))?);
                 continue;
             }
             let names: Vec<String> = fields.iter().map(|f| f.to_ascii_lowercase()).collect();
@@ -193,10 +248,12 @@ pub fn parse(input: impl BufRead, fs_arg: Option<f64>) -> Result<Recording, Reco
     } else {
         None
     };
+    let fs_profile = profile.as_ref().and_then(|p| profile_number(p, "fs_hz"));
     let sources = [
         ("--fs", fs_arg),
         ("the fs line", fs_line),
         ("the t column", fs_time),
+        ("the profile's fs_hz", fs_profile),
     ];
     let given: Vec<(&str, f64)> = sources
         .iter()
@@ -224,6 +281,7 @@ pub fn parse(input: impl BufRead, fs_arg: Option<f64>) -> Result<Recording, Reco
     Ok(Recording {
         fs: whole as u32,
         samples,
+        profile,
     })
 }
 
@@ -236,6 +294,50 @@ mod tests {
         let e = parse(text.as_bytes(), fs).expect_err("malformed");
         assert_eq!(e.line, line, "{e}");
         assert!(e.problem.contains(words), "{e}");
+    }
+
+    #[test]
+    fn a_profile_line_is_read_back_and_must_agree_with_the_rate() {
+        let pairs: Vec<(String, String)> = [("fs_hz", "3000"), ("counts_per_inch", "1600")]
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        let rec = Recording {
+            fs: 3000,
+            samples: vec![[1, 2, 3]],
+            profile: Some(pairs),
+        };
+        assert_eq!(
+            parse(write(&rec).as_bytes(), None).expect("reads back"),
+            rec
+        );
+        fails(
+            "fs,1000\nprofile,fs_hz=3000\nn,x,y,z\n0,1,2,3\n",
+            None,
+            0,
+            "the fs line says 1000 Hz but the profile's fs_hz says 3000 Hz",
+        );
+        fails(
+            "fs,100\nprofile,cpi\nn,x,y,z\n0,1,2,3\n",
+            None,
+            2,
+            "profile: `cpi` is not KEY=VALUE",
+        );
+        fails(
+            "fs,100\nprofile,a=1,a=2\nn,x,y,z\n0,1,2,3\n",
+            None,
+            2,
+            "profile: a is given twice",
+        );
+        fails(
+            "profile,fs_hz=100\nprofile,fs_hz=100\nn,x,y,z\n0,1,2,3\n",
+            None,
+            2,
+            "a second `profile` line",
+        );
+        // The profile's rate alone is a rate.
+        let r = parse("profile,fs_hz=250\nn,x,y,z\n0,1,2,3\n".as_bytes(), None).expect("valid");
+        assert_eq!(r.fs, 250);
     }
 
     #[test]

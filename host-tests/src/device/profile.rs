@@ -1,0 +1,128 @@
+//! A device profile as text: `KEY=VALUE` with the words a user writes (`off`, `on`,
+//! `euler`, `trapezoid`), as `cargo lab device config` reads and prints it and as a
+//! recording's `profile,` line carries it ([`crate::formats::recording`]).
+
+use imu_core::profile::{Key, Kind, Profile};
+
+/// The words `scheme` takes, by value.
+pub const SCHEMES: [&str; 2] = ["euler", "trapezoid"];
+
+/// A key's value as a user reads it, and writes it: [`read_pair`] takes it back exactly.
+pub fn show(key: Key, v: f64) -> String {
+    match key.kind() {
+        Kind::Optional if v.is_nan() => "off".into(),
+        Kind::Flag => (if v == 1.0 { "on" } else { "off" }).into(),
+        _ if key == Key::Scheme => SCHEMES
+            .get(v as usize)
+            .map_or_else(|| format!("{v}"), |w| (*w).into()),
+        // Exact (it reads back as itself), in exponent form when huge or tiny.
+        _ => crate::formats::number::Num(v).to_string(),
+    }
+}
+
+/// What a key's value must be, in words, for an error message.
+fn wanted(key: Key) -> &'static str {
+    match key.kind() {
+        Kind::Flag => "must be on or off",
+        Kind::Optional => "must be a finite number or off",
+        _ if key == Key::Scheme => "must be euler or trapezoid",
+        _ => "must be a finite number",
+    }
+}
+
+/// `KEY=VALUE` read.
+///
+/// # Errors
+/// `"{pair}: why"`: no `=`, an unknown key (the keys are listed), a value the key does not
+/// take (a finite number; `off`/`on` where the key takes them; `euler`/`trapezoid`).
+pub fn read_pair(pair: &str) -> Result<(Key, f64), String> {
+    let bad = |why: &str| format!("{}: {why}", crate::formats::lines::quote(pair));
+    let (k, v) = pair
+        .split_once('=')
+        .ok_or_else(|| bad("must be KEY=VALUE"))?;
+    let key = Key::from_name(k.trim()).ok_or_else(|| {
+        let names: Vec<&str> = Key::ALL.iter().map(|k| k.name()).collect();
+        bad(&format!("unknown key; the keys: {}", names.join(", ")))
+    })?;
+    let v = v.trim();
+    let word = match key.kind() {
+        Kind::Optional if v == "off" => Some(f64::NAN),
+        Kind::Flag => ["off", "on"].iter().position(|w| *w == v).map(|i| i as f64),
+        _ if key == Key::Scheme => SCHEMES.iter().position(|w| *w == v).map(|i| i as f64),
+        _ => None,
+    };
+    let number = || v.parse::<f64>().ok().filter(|x| x.is_finite());
+    let value = word.or_else(number).ok_or_else(|| bad(wanted(key)))?;
+    Ok((key, value))
+}
+
+/// The profile `pairs` describe: the defaults with each pair set in order. A pair the key
+/// does not take is skipped (the key keeps its default); [`Profile::validate`] judges the
+/// whole.
+pub fn profile_of(pairs: &[(Key, f64)]) -> Profile {
+    let mut p = Profile::default();
+    for &(k, v) in pairs {
+        let _ = p.set(k, v);
+    }
+    p
+}
+
+/// Every key of `p` with its value, in [`Key::ALL`]'s order.
+pub fn pairs_of(p: &Profile) -> Vec<(Key, f64)> {
+    Key::ALL.iter().map(|&k| (k, p.get(k))).collect()
+}
+
+/// `pairs` as a recording's `profile,` line holds them: `(name, value as shown)`.
+pub fn to_text(pairs: &[(Key, f64)]) -> Vec<(String, String)> {
+    pairs
+        .iter()
+        .map(|&(k, v)| (k.name().to_string(), show(k, v)))
+        .collect()
+}
+
+/// A recording's `profile,` pairs read as keys and values.
+///
+/// # Errors
+/// The first pair [`read_pair`] refuses, as `"profile: {pair}: why"`.
+pub fn from_text(pairs: &[(String, String)]) -> Result<Vec<(Key, f64)>, String> {
+    pairs
+        .iter()
+        .map(|(k, v)| read_pair(&format!("{k}={v}")).map_err(|e| format!("profile: {e}")))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_key_s_shown_value_reads_back_as_itself() {
+        let mut p = Profile::default();
+        p.set(Key::LowpassFcHz, 50.0).expect("fits");
+        p.set(Key::Scheme, 1.0).expect("fits");
+        p.set(Key::XSign, -1.0).expect("fits");
+        for (k, v) in pairs_of(&p) {
+            let (k2, v2) = read_pair(&format!("{k}={}", show(k, v))).expect("reads back");
+            assert_eq!(k2, k);
+            assert!(v2 == v || (v.is_nan() && v2.is_nan()), "{k}: {v} -> {v2}");
+        }
+        assert_eq!(profile_of(&pairs_of(&p)), p);
+        assert_eq!(
+            from_text(&to_text(&pairs_of(&p))).map(|q| profile_of(&q)),
+            Ok(p)
+        );
+    }
+
+    #[test]
+    fn a_bad_pair_is_quoted_short_with_what_the_key_takes() {
+        let e = read_pair(&format!("fs_hz={}", "9".repeat(500))).expect_err("not finite");
+        assert!(
+            e.len() < 120 && e.contains("must be a finite number"),
+            "{e}"
+        );
+        assert!(read_pair("nope=1")
+            .expect_err("unknown")
+            .contains("unknown key"));
+        assert!(read_pair("drift").expect_err("no =").contains("KEY=VALUE"));
+    }
+}
