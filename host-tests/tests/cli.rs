@@ -2,7 +2,7 @@
 //! a closed pipe ends quietly, errors go to stderr with the documented exit status, `--json`
 //! prints JSON only, and `cargo lab` alone lists every command with an example.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 fn lab() -> Command {
@@ -218,7 +218,7 @@ fn device_arguments_are_refused_before_any_device_is_asked() {
         assert!(err.contains(named), "{args:?}: {err}");
     }
     assert!(
-        !std::path::Path::new("/nonexistent/imu").exists(),
+        !Path::new("/nonexistent/imu").exists(),
         "nothing created"
     );
     // A twin that is not running: what to do, not an OS error number.
@@ -231,43 +231,40 @@ fn device_arguments_are_refused_before_any_device_is_asked() {
     );
 }
 
-#[test]
-fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
+/// A twin on a free local port with `args` (after `twin --addr ADDR`), answering `info`.
+fn start_twin(args: &[&str]) -> (std::process::Child, String) {
     let port = {
         let l = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
         l.local_addr().expect("address").port()
     };
     let addr = format!("127.0.0.1:{port}");
-    let mut twin = lab()
-        .args([
-            "twin",
-            "--scene",
-            "rest",
-            "--seconds",
-            "30",
-            "--addr",
-            &addr,
-            "--serial",
-            "CLITWIN7",
-        ])
+    let twin = lab()
+        .args(["twin", "--addr", &addr])
+        .args(args)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
         .spawn()
         .expect("the twin starts");
-    let device = |args: &[&str]| {
-        let mut all = vec!["device", "--twin", addr.as_str()];
-        all.extend(args);
-        output(&all)
-    };
-    // Wait for it to listen.
     let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
-    while device(&["info"]).status.code() != Some(0) {
+    while output(&["device", "--twin", &addr, "info"]).status.code() != Some(0) {
         assert!(
             std::time::Instant::now() < deadline,
             "the twin did not answer"
         );
         std::thread::sleep(std::time::Duration::from_millis(200));
     }
+    (twin, addr)
+}
+
+#[test]
+fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
+    let (mut twin, addr) =
+        start_twin(&["--scene", "rest", "--seconds", "30", "--serial", "CLITWIN7"]);
+    let device = |args: &[&str]| {
+        let mut all = vec!["device", "--twin", addr.as_str()];
+        all.extend(args);
+        output(&all)
+    };
     // The twin is listed with its serial, and chosen by it.
     let listed = device(&["list"]);
     assert_eq!(listed.status.code(), Some(0), "{}", text(&listed.stderr));
@@ -703,4 +700,101 @@ fn a_simulated_recording_replays_as_it_was_simulated() {
         .expect("allan runs");
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let _ = std::fs::remove_file(&file);
+}
+
+#[test]
+fn allan_says_when_an_axis_is_railed_and_when_its_bias_is_only_a_bound() {
+    // x noisy, y railed at 4095 throughout, z at the rail 9 samples in 10.
+    let file = std::env::temp_dir().join(format!("imu-cli-{}-rail.csv", std::process::id()));
+    let mut csv =
+        String::from("fs,3000\nprofile,fs_hz=3000,m_s2_per_lsb=0.0239,adc_bits=12\nn,x,y,z\n");
+    for i in 0..30_000u32 {
+        let noise = (i.wrapping_mul(2_654_435_761) >> 29) as i32 - 4;
+        csv += &format!(
+            "{i},{},4095,{}\n",
+            2048 + noise,
+            if i % 10 == 0 { 4094 } else { 4095 }
+        );
+    }
+    std::fs::write(&file, csv).expect("file");
+    let out = lab()
+        .args(["allan", "--out", "target/lab/cli-allan-rail"])
+        .arg(&file)
+        .output()
+        .expect("runs");
+    let said = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        said.contains("y: constant at 4095 for all 30000 samples: a railed or dead axis"),
+        "{said}"
+    );
+    assert!(
+        !said.contains("y: N_v"),
+        "no figures for a railed axis: {said}"
+    );
+    assert!(
+        said.contains("z: 90.0 % of samples at the rail code 4095: clipped"),
+        "{said}"
+    );
+    let _ = std::fs::remove_file(&file);
+    // The real recording: x's minimum is at its longest tau, so its bias is a bound.
+    let out = output(&[
+        "allan",
+        concat!(env!("CARGO_MANIFEST_DIR"), "/data/mpu6050-static-100hz.csv"),
+        "--columns",
+        "ax,az",
+        "--scale",
+        "0.000598550415039",
+        "--out",
+        "target/lab/cli-allan-real",
+    ]);
+    let said = text(&out.stdout);
+    assert!(
+        said.contains("ax: N_v") && said.contains("bias instability <= "),
+        "{said}"
+    );
+    assert!(
+        said.contains("ax: the deviation still falls at the longest tau"),
+        "{said}"
+    );
+    assert!(!said.contains("az: the deviation still falls"), "{said}");
+}
+
+#[test]
+fn plots_land_in_the_workspace_target_wherever_the_lab_runs_from() {
+    // cargo runs this test in host-tests/; the workspace's target is one folder up.
+    let out = output(&[
+        "allan",
+        "data/mpu6050-static-100hz.csv",
+        "--columns",
+        "ax",
+        "--scale",
+        "0.000598550415039",
+        "--out",
+        "target/lab/cli-allan-cwd",
+    ]);
+    let said = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("the workspace");
+    let plot = root.join("target/lab/cli-allan-cwd/allan.svg");
+    assert!(
+        said.contains(&format!("plot: {}", plot.display())),
+        "{said}"
+    );
+    assert!(plot.is_file());
+}
+
+#[test]
+fn a_repeating_twin_serves_past_the_end_of_its_scene() {
+    let (mut twin, addr) = start_twin(&["--scene", "rest", "--seconds", "1", "--repeat"]);
+    let info = || output(&["device", "--twin", addr.as_str(), "info"]);
+    // Three times its 1 s scene later, it still answers.
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let out = info();
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(twin.try_wait().expect("status").is_none(), "still serving");
+    twin.kill().expect("the twin stops");
+    twin.wait().expect("reaped");
 }

@@ -36,6 +36,7 @@ fn start_twin(port: u16, flash: &Path, seconds: f64) -> (SocketAddr, JoinHandle<
         wait_host_s: 20.0,
         drain_s: 0.5,
         serial: "LABDEVICE1",
+        repeat: false,
     };
     let input = scene(seconds);
     let handle = std::thread::spawn(move || {

@@ -22,6 +22,27 @@ pub struct Args {
     pub json: bool,
 }
 
+/// Per column, the rail code (0 or `2^adc_bits - 1`, from the recording's profile) that more
+/// than 1 % of its samples sit at, and that share; `None` without a profile.
+fn rails(d: &crate::formats::columns::Data) -> Vec<Option<(f64, f64)>> {
+    let bits = d
+        .profile
+        .as_ref()
+        .and_then(|p| p.iter().find(|(k, _)| k == "adc_bits"))
+        .and_then(|(_, v)| v.parse::<u32>().ok())
+        .filter(|b| (2..=16).contains(b));
+    d.raw
+        .iter()
+        .map(|col| {
+            let top = f64::from((1u32 << bits?) - 1);
+            [0.0, top].into_iter().find_map(|code| {
+                let share = col.iter().filter(|&&v| v == code).count() as f64 / col.len() as f64;
+                (share > 0.01).then_some((code, share))
+            })
+        })
+        .collect()
+}
+
 /// Runs `cargo lab allan`.
 ///
 /// # Errors
@@ -35,7 +56,8 @@ pub fn run(a: &Args) -> Outcome {
         "{}: {} samples at {} Hz (from {}); {}\n",
         file.display(),
         d.m_s2[0].len(),
-        d.fs,
+        // A rate from a time column is a mean of steps: shown to 6 digits, not 3000.0000000003.
+        imu_core::profile::Shown(d.fs),
         d.fs_source,
         if d.notes.is_empty() {
             "no gaps or jitter".to_string()
@@ -49,17 +71,49 @@ pub fn run(a: &Args) -> Outcome {
         y_label: "Allan deviation [m/s^2]".into(),
         ..Default::default()
     };
+    let rails = rails(&d);
     for (k, (name, (a, f))) in d.names.iter().zip(results).enumerate() {
+        let raw = &d.raw[k];
+        if raw.iter().all(|&v| v == raw[0]) {
+            // No noise is not a quiet sensor: an axis at a rail or not connected.
+            text += &format!(
+                "{name}: constant at {} for all {} samples: a railed or dead axis has no noise \
+                 figures\n",
+                raw[0],
+                raw.len()
+            );
+            axes.insert(
+                name.clone(),
+                serde_json::json!({ "constant": raw[0], "samples": raw.len() }),
+            );
+            continue;
+        }
+        let bound = if f.bias_is_bound { "<= " } else { "" };
         text += &format!(
-            "{name}: N_v (VRW) {:.4e} m/s/sqrt(s) = {:.4e} m/s/sqrt(h); ND (one-sided) {:.4e} m/s^2/sqrt(Hz) = {:.0} ug/sqrt(Hz); bias instability {:.4e} m/s^2 = {:.1} ug at tau {} s\n",
+            "{name}: N_v (VRW) {:.4e} m/s/sqrt(s) = {:.4e} m/s/sqrt(h); ND (one-sided) {:.4e} m/s^2/sqrt(Hz) = {:.0} ug/sqrt(Hz); bias instability {bound}{:.4e} m/s^2 = {bound}{:.1} ug at tau {} s\n",
             f.vrw_m_s_rts,
             60.0 * f.vrw_m_s_rts,
             f.noise_density_m_s2_rthz,
             f.noise_density_m_s2_rthz / 9.806_65e-6,
             f.bias_instability_m_s2,
             f.bias_instability_m_s2 / 9.806_65e-6,
-            f.tau_min_s
+            imu_core::profile::Shown(f.tau_min_s)
         );
+        if f.bias_is_bound {
+            text += &format!(
+                "{name}: the deviation still falls at the longest tau ({} s): the bias \
+                 instability is an upper bound; a record over {} s would find the minimum\n",
+                imu_core::profile::Shown(f.tau_min_s),
+                (f.tau_min_s * 4.0).ceil()
+            );
+        }
+        if let Some((code, share)) = rails.get(k).copied().flatten() {
+            text += &format!(
+                "{name}: {:.1} % of samples at the rail code {code}: clipped, the figures \
+                 understate the noise\n",
+                100.0 * share
+            );
+        }
         let color = COLORS[k % COLORS.len()];
         p.points.push(plot::Points {
             label: name.to_string(),
@@ -94,6 +148,7 @@ pub fn run(a: &Args) -> Outcome {
                 "noise_density_m_s2_rthz": f.noise_density_m_s2_rthz,
                 "vrw_m_s_rts": f.vrw_m_s_rts,
                 "bias_instability_m_s2": f.bias_instability_m_s2,
+                "bias_instability_is_upper_bound": f.bias_is_bound,
             }),
         );
     }

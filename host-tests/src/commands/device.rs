@@ -357,7 +357,7 @@ fn refused<L: Link>(c: &mut Client<L>, pairs: &[(Key, f64)], code: ErrorCode) ->
 static INTERRUPTED: AtomicBool = AtomicBool::new(false);
 
 /// Records `seconds` (checked by [`check_args`], like `out`) into `out`.
-fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &PathBuf, json: bool) -> Outcome {
+fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &std::path::Path, json: bool) -> Outcome {
     let fs = c.info()?.fs_hz;
     // The settings it records under go into the file: `replay`, `allan` and `drift` read them.
     let settings = c.config()?;
@@ -382,6 +382,7 @@ fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &PathBuf, json: bool) -
             ),
         );
     }
+    let out = &super::resolve(out);
     std::fs::write(out, text).map_err(|e| Error::file(out, e))?;
     if rec.interrupted {
         return Err(Error::Run(format!(
@@ -572,7 +573,7 @@ fn unreachable(addr: std::net::SocketAddr, timeout: Duration, e: UsbIpError) -> 
     match &e {
         UsbIpError::Io(io) if io.kind() == ErrorKind::ConnectionRefused => Error::Run(format!(
             "no twin listens on {addr}: start one with `cargo lab twin --addr {addr}` (it \
-             serves until its scene has played)"
+             serves until its scene has played; --repeat keeps it serving)"
         )),
         UsbIpError::Io(io) if matches!(io.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {
             Error::Run(format!(

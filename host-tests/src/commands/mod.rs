@@ -4,7 +4,8 @@
 //! - the result goes to stdout, as a table or, with `--json`, as JSON only;
 //! - `--seed N` seeds every random draw of the run: the same seed gives the same output;
 //! - `--out DIR` is the directory for the files a command writes (plots), created if missing,
-//!   `target/lab/<command>` unless given;
+//!   `target/lab/<command>` unless given; a relative `target/...` is the workspace's target
+//!   folder wherever the lab runs from ([`resolve`]);
 //! - errors go to stderr as `error: ...` naming the bad argument or file; the exit status is 2
 //!   for a bad argument, 1 for a run that failed (a file, a check);
 //! - a run that fails its own check (`reproduce`, `speed`) still prints its table, then fails;
@@ -154,11 +155,19 @@ pub fn open(path: &Path) -> Result<std::io::BufReader<std::fs::File>, Error> {
 }
 
 /// A file to be written, checked before any work: not a folder, and its folder exists (a
-/// typo in a path is not created silently, and a long run does not fail at its end).
+/// typo in a path is not created silently, and a long run does not fail at its end); under
+/// `target/` ([`resolve`]) the lab makes its own folders.
 ///
 /// # Errors
 /// [`Error::Arg`] naming `--{name}`.
 pub fn writable(name: &'static str, out: &Path) -> Result<(), Error> {
+    // The lab's own folders under target/ are made; a user's folder must exist.
+    if out.is_relative() && out.starts_with("target") {
+        if let Some(dir) = resolve(out).parent() {
+            std::fs::create_dir_all(dir).map_err(|e| Error::file(dir, e))?;
+        }
+    }
+    let out = &resolve(out);
     if out.is_dir() {
         return Err(Error::arg(
             name,
@@ -176,8 +185,26 @@ pub fn writable(name: &'static str, out: &Path) -> Result<(), Error> {
     }
 }
 
-/// Writes `name` into the `--out` directory `dir` (created if missing); returns its path.
+/// `path` as the lab writes to it: a relative path under `target/` is the workspace's
+/// `target` folder (the nearest folder up from here holding a `Cargo.lock`, as cargo's is),
+/// wherever the lab runs from; any other path is as given.
+pub fn resolve(path: &Path) -> PathBuf {
+    if path.is_relative() && path.starts_with("target") {
+        if let Some(root) = std::env::current_dir().ok().and_then(|cwd| {
+            cwd.ancestors()
+                .find(|d| d.join("Cargo.lock").is_file())
+                .map(Path::to_path_buf)
+        }) {
+            return root.join(path);
+        }
+    }
+    path.to_path_buf()
+}
+
+/// Writes `name` into the `--out` directory `dir` (created if missing, [`resolve`]d);
+/// returns its path.
 pub fn write_out(dir: &Path, name: &str, contents: &str) -> Result<PathBuf, Error> {
+    let dir = &resolve(dir);
     std::fs::create_dir_all(dir).map_err(|e| Error::file(dir, e))?;
     let path = dir.join(name);
     std::fs::write(&path, contents).map_err(|e| Error::file(&path, e))?;

@@ -14,7 +14,8 @@ pub const EXAMPLE: &str =
 /// `cargo lab replay`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The recording (format: `cargo lab replay --help` and the README).
+    /// The recording: CSV of ADC codes (format: docs/lab.md, "replay"; `device record` and
+    /// `simulate --csv` write it).
     pub file: std::path::PathBuf,
     /// Sampling rate [Hz], if the file does not say.
     #[arg(long, allow_negative_numbers = true)]

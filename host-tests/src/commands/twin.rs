@@ -44,6 +44,10 @@ pub struct Args {
     /// the twin starts with an erased flash (the defaults).
     #[arg(long)]
     pub flash: Option<std::path::PathBuf>,
+    /// Play the scene or recording again and again, serving until Ctrl-C (without it the
+    /// twin goes away when the scene has played).
+    #[arg(long)]
+    pub repeat: bool,
     /// The device's USB serial number (`cargo lab device list` shows it; a board's is its
     /// MCU's unique ID).
     #[arg(long, default_value = "TWIN0001")]
@@ -153,6 +157,7 @@ pub fn run(a: &Args) -> Outcome {
         drain_s: 2.0,
         // One twin a process: its serial lives as long as the process.
         serial: Box::leak(a.serial.clone().into_boxed_str()),
+        repeat: a.repeat,
     };
     let s = twin::run(&input, settings, operator, flash).map_err(|e| Error::Run(e.to_string()))?;
     if a.json {

@@ -147,7 +147,7 @@ pub fn run_mapped(
 /// The track as a readable table.
 pub fn table(t: &Track) -> String {
     let mut out = format!(
-        "{} samples at {} Hz; calibration {}; {} rejected window(s)\n{:>9} {:>10} {:>10} {:>10} {:>10}\n",
+        "{} samples at {} Hz; calibration {}; {} rejected window(s)\n{:>9} {:>11} {:>11} {:>11} {:>11}\n",
         t.samples,
         t.fs,
         match (t.tracking_from_s, &t.calibration_failure) {
@@ -157,14 +157,14 @@ pub fn table(t: &Track) -> String {
         },
         t.rejected_windows,
         "t [s]",
-        "x [counts]",
-        "y [counts]",
-        "x [mm]",
-        "y [mm]"
+        "right [cnt]",
+        "down [cnt]",
+        "right [mm]",
+        "down [mm]"
     );
     for p in &t.points {
         out += &format!(
-            "{:>9.3} {:>10} {:>10} {:>10.2} {:>10.2}\n",
+            "{:>9.3} {:>11} {:>11} {:>11.2} {:>11.2}\n",
             p.t_s, p.x_counts, p.y_counts, p.x_mm, p.y_mm
         );
     }

@@ -163,6 +163,9 @@ pub struct Settings {
     pub drain_s: f64,
     /// The USB serial number string (a board's is its MCU's unique ID).
     pub serial: &'static str,
+    /// Play the input again from its start each time it ends, until the process is stopped
+    /// (a session longer than the scene); the summary is then never printed.
+    pub repeat: bool,
 }
 
 /// Why the twin could not run.
@@ -398,6 +401,9 @@ pub fn run(
             RESUME => monitor.request_suspend(false),
             _ => {}
         }
+        if s.repeat && head.index(block - 1) >= input.codes.len() {
+            head = Playhead::new(input.fs_hz, config.fs_hz);
+        }
         if head.index(block - 1) < input.codes.len() {
             let played = head.played();
             scene_key.store(
@@ -442,7 +448,7 @@ pub fn run(
             if drain_left == 0 || (!owed && mouse.reports().link() == Link::Configured) {
                 eprintln!(
                     "twin: the scene has played ({:.1} s); the device goes away (for a longer \
-                     session: --scene rest --seconds S)",
+                     session: --repeat, or --scene rest --seconds S)",
                     head.played() as f64 / f64::from(input.fs_hz)
                 );
                 break;

@@ -87,6 +87,9 @@ pub struct Figures {
     pub bias_instability_m_s2: f64,
     /// Where the minimum is [s].
     pub tau_min_s: f64,
+    /// Whether the minimum is at the longest tau, where the curve may still be falling: then
+    /// the bias instability is an upper bound (a longer record would find it lower).
+    pub bias_is_bound: bool,
     /// The taus the -1/2 fit used [s].
     pub fit_taus_s: Vec<f64>,
 }
@@ -131,6 +134,7 @@ pub fn figures(a: &Adev) -> Option<Figures> {
         noise_density_m_s2_rthz: std::f64::consts::SQRT_2 * nv,
         bias_instability_m_s2: min / (2.0 * std::f64::consts::LN_2 / std::f64::consts::PI).sqrt(),
         tau_min_s: a.taus_s[imin],
+        bias_is_bound: imin + 1 == a.adev.len(),
         fit_taus_s: fit.iter().map(|&i| a.taus_s[i]).collect(),
     })
 }
