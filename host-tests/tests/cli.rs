@@ -217,10 +217,7 @@ fn device_arguments_are_refused_before_any_device_is_asked() {
         assert_eq!(text(&out.stdout), "", "{args:?}");
         assert!(err.contains(named), "{args:?}: {err}");
     }
-    assert!(
-        !Path::new("/nonexistent/imu").exists(),
-        "nothing created"
-    );
+    assert!(!Path::new("/nonexistent/imu").exists(), "nothing created");
     // A twin that is not running: what to do, not an OS error number.
     let out = output(&["device", "--twin", "127.0.0.1:9", "info"]);
     let err = text(&out.stderr);
@@ -676,16 +673,31 @@ fn a_simulated_recording_replays_as_it_was_simulated() {
         .output()
         .expect("simulate runs");
     assert_eq!(sim.status.code(), Some(0), "{}", text(&sim.stderr));
+    let charts = std::env::temp_dir().join(format!("imu-cli-{}-charts", std::process::id()));
     let replay = lab()
         .arg("replay")
         .arg(&file)
+        .arg("--out")
+        .arg(&charts)
         .output()
         .expect("replay runs");
     assert_eq!(replay.status.code(), Some(0), "{}", text(&replay.stderr));
+    // Its charts: the path and the acceleration, each a trace of points.
+    for name in ["path.svg", "acceleration.svg"] {
+        let svg = std::fs::read_to_string(charts.join(name)).expect("a chart");
+        let points = svg
+            .lines()
+            .find(|l| l.starts_with("<polyline"))
+            .map_or(0, |l| l.matches(',').count());
+        assert!(points > 100, "{name}: {points} points");
+        assert!(text(&replay.stdout).contains(name), "the plots are named");
+    }
+    let _ = std::fs::remove_dir_all(&charts);
     // The same track, row for row: the scene's settings went with its codes.
     let rows = |t: &str| -> Vec<String> {
         t.lines()
             .skip_while(|l| !l.trim_start().starts_with("t [s]"))
+            .filter(|l| !l.starts_with("plots: "))
             .map(String::from)
             .collect()
     };

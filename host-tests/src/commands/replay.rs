@@ -33,6 +33,9 @@ pub struct Args {
     /// Print JSON instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Directory for the charts (the cursor's path, the acceleration).
+    #[arg(long, default_value = "target/lab/replay")]
+    pub out: std::path::PathBuf,
 }
 
 /// Runs `cargo lab replay`.
@@ -67,8 +70,16 @@ pub fn run(a: &Args) -> Outcome {
         p.config.adc_bits = b;
     }
     p.validate().map_err(|e| argument(e, &p))?;
+    let accel = track::acceleration(&p.config, &p.map, &rec.samples);
     let t = track::run_mapped(&p.config, &p.map, rec.samples, every)
         .map_err(|e| Error::Input(e.to_string()))?;
+    let name = a
+        .file
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let (path, acc) = track::charts(&t, &accel, &name);
+    let path = super::write_out(&a.out, "path.svg", &path.to_svg())?;
+    let acc = super::write_out(&a.out, "acceleration.svg", &acc.to_svg())?;
     let report = if a.json {
         super::json(&t)?
     } else {
@@ -97,7 +108,7 @@ pub fn run(a: &Args) -> Outcome {
                 "off"
             },
             track::table(&t)
-        )
+        ) + &format!("plots: {} and {}", path.display(), acc.display())
     };
     super::tracked(&t, report)
 }

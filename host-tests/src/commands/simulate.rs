@@ -32,6 +32,9 @@ pub struct Args {
     /// Print JSON instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Directory for the charts (the cursor's path, the acceleration).
+    #[arg(long, default_value = "target/lab/simulate")]
+    pub out: std::path::PathBuf,
     /// Also write the codes as a recording (`fs,<Hz>` line, `n,x,y,z` header), for
     /// `cargo lab allan` / `drift` / `replay`.
     #[arg(long)]
@@ -83,7 +86,12 @@ pub fn run(a: &Args) -> Outcome {
         );
         std::fs::write(path, csv).map_err(|e| Error::file(path, e))?;
     }
+    let map = imu_core::AxisMap::default();
+    let accel = track::acceleration(&config, &map, &samples);
     let t = track::run(&config, samples, every).map_err(|e| Error::Run(e.to_string()))?;
+    let (path, acc) = track::charts(&t, &accel, sc.name);
+    let path = super::write_out(&a.out, "path.svg", &path.to_svg())?;
+    let acc = super::write_out(&a.out, "acceleration.svg", &acc.to_svg())?;
     if a.json {
         return super::tracked(&t, super::json(&t)?);
     }
@@ -97,5 +105,6 @@ pub fn run(a: &Args) -> Outcome {
             config.counts_per_inch
         );
     }
-    super::tracked(&t, header + &track::table(&t))
+    let plots = format!("plots: {} and {}", path.display(), acc.display());
+    super::tracked(&t, header + &track::table(&t) + &plots)
 }

@@ -55,7 +55,13 @@ pub struct Track {
     pub reports: u32,
     /// Total counts sent (right, down).
     pub counts: (i64, i64),
+    /// The cursor every [`TRACE_S`] while tracking, for a chart (not in the JSON).
+    #[serde(skip)]
+    pub trace: Vec<TrackPoint>,
 }
+
+/// The interval of [`Track::trace`] [s]: 10 ms, finer than a hand's strokes.
+pub const TRACE_S: f64 = 0.01;
 
 /// Runs `samples` (`[x, y, z]` codes at `config.fs_hz`) through the device, recording the
 /// cursor every `every_s` seconds, with the board's axis mapping.
@@ -87,6 +93,8 @@ pub fn run_mapped(
     let fs = f64::from(config.fs_hz);
     let per_poll = u64::from((config.fs_hz / 1000).max(1));
     let per_point = ((every_s * fs).round() as u64).max(1);
+    let per_trace = ((TRACE_S * fs).round() as u64).max(1);
+    let mut trace = vec![];
     let mm_per_count = 25.4 / f64::from(config.counts_per_inch);
     let (mut n, mut sent, mut from) = (0u64, (0i64, 0i64), None);
     let mut points = vec![];
@@ -113,14 +121,20 @@ pub fn run_mapped(
                 sent.1 += i64::from(r.y);
             }
         }
-        if n % per_point == 0 && tracker.phase() == Phase::Tracking {
-            points.push(TrackPoint {
-                t_s: n as f64 / fs,
-                x_counts: sent.0,
-                y_counts: sent.1,
-                x_mm: sent.0 as f64 * mm_per_count,
-                y_mm: sent.1 as f64 * mm_per_count,
-            });
+        let point = || TrackPoint {
+            t_s: n as f64 / fs,
+            x_counts: sent.0,
+            y_counts: sent.1,
+            x_mm: sent.0 as f64 * mm_per_count,
+            y_mm: sent.1 as f64 * mm_per_count,
+        };
+        if tracker.phase() == Phase::Tracking {
+            if n % per_point == 0 {
+                points.push(point());
+            }
+            if n % per_trace == 0 {
+                trace.push(point());
+            }
         }
     }
     let calibration_failure = match (from, last_rejection) {
@@ -141,6 +155,7 @@ pub fn run_mapped(
         points,
         reports: reporter.reports(),
         counts: sent,
+        trace,
     })
 }
 
@@ -173,4 +188,84 @@ pub fn table(t: &Track) -> String {
         t.reports, t.counts.0, t.counts.1
     );
     out
+}
+
+/// The acceleration of the cursor's two axes over time, for a chart: `samples` (sensor order)
+/// routed by `map` and signed as the cursor moves (right, up), less the mean of the first
+/// calibration window, in m/s^2, as means over bins of at least [`TRACE_S`] (at most 2000
+/// bins). `(t [s], [right, up])` per bin.
+pub fn acceleration(config: &Config, map: &AxisMap, samples: &[[u16; 3]]) -> Vec<(f64, [f64; 2])> {
+    let fs = f64::from(config.fs_hz);
+    let routed = |s: &[u16; 3]| {
+        let r = map.route(*s);
+        let sign = |flip: bool| if flip { -1.0 } else { 1.0 };
+        [
+            sign(map.x_flip) * f64::from(r[0]),
+            sign(map.y_flip) * f64::from(r[1]),
+        ]
+    };
+    let window = ((config.calibration_s * fs).round() as usize).clamp(1, samples.len().max(1));
+    let mut zero = [0.0; 2];
+    for s in samples.iter().take(window) {
+        let r = routed(s);
+        zero = [zero[0] + r[0], zero[1] + r[1]];
+    }
+    let zero = zero.map(|z| z / window as f64);
+    let bin = ((TRACE_S * fs).round() as usize)
+        .max(samples.len().div_ceil(2000))
+        .max(1);
+    samples
+        .chunks(bin)
+        .enumerate()
+        .map(|(i, chunk)| {
+            let mut sum = [0.0; 2];
+            for s in chunk {
+                let r = routed(s);
+                sum = [sum[0] + r[0], sum[1] + r[1]];
+            }
+            let n = chunk.len() as f64;
+            let t = (i * bin) as f64 / fs + n / (2.0 * fs);
+            (
+                t,
+                [0, 1].map(|k| (sum[k] / n - zero[k]) * config.m_s2_per_lsb),
+            )
+        })
+        .collect()
+}
+
+/// The track and the acceleration as two charts: the cursor's path in the plane (right
+/// and up, mm, one unit as long on both) and the acceleration over time.
+pub fn charts(
+    t: &Track,
+    accel: &[(f64, [f64; 2])],
+    title: &str,
+) -> (crate::formats::chart::Chart, crate::formats::chart::Chart) {
+    use crate::formats::chart::{Chart, Trace};
+    let path = Chart {
+        title: format!("{title}: the cursor's path"),
+        x_label: "right [mm]".into(),
+        y_label: "up [mm]".into(),
+        traces: vec![Trace {
+            label: format!("every {} ms while tracking", TRACE_S * 1000.0),
+            color: "#1f77b4",
+            pts: t.trace.iter().map(|p| (p.x_mm, -p.y_mm)).collect(),
+        }],
+        equal_aspect: true,
+    };
+    let acc = Chart {
+        title: format!("{title}: acceleration less the calibration's zero"),
+        x_label: "t [s]".into(),
+        y_label: "acceleration [m/s^2]".into(),
+        traces: ["right", "up"]
+            .iter()
+            .enumerate()
+            .map(|(k, name)| Trace {
+                label: format!("cursor {name}"),
+                color: ["#1f77b4", "#d62728"][k],
+                pts: accel.iter().map(|(t, a)| (*t, a[k])).collect(),
+            })
+            .collect(),
+        equal_aspect: false,
+    };
+    (path, acc)
 }

@@ -91,16 +91,7 @@ impl Plot {
             let v = if y > 0.0 { y.log10() } else { y0 };
             T + (y1 - v.clamp(y0, y1)) / (y1 - y0) * (H - T - B)
         };
-        let mut s = String::new();
-        let _ = write!(
-            s,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}" font-family="sans-serif" font-size="12">
-<rect width="{W}" height="{H}" fill="white"/>
-<text x="{}" y="22" text-anchor="middle" font-size="15" font-weight="bold">{}</text>
-"#,
-            W / 2.0,
-            esc(&self.title)
-        );
+        let mut s = svg_open(W, H, &self.title);
         // Grid and ticks.
         for d in x0 as i32..=x1 as i32 {
             for m in 1..10 {
@@ -249,7 +240,21 @@ impl Plot {
     }
 }
 
-fn esc(t: &str) -> String {
+/// An SVG document's opening of `w` x `h` pixels: white ground and `title` on top (the
+/// charts of [`super::chart`] open the same way).
+pub(crate) fn svg_open(w: f64, h: f64, title: &str) -> String {
+    format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12">
+<rect width="{w}" height="{h}" fill="white"/>
+<text x="{}" y="22" text-anchor="middle" font-size="15" font-weight="bold">{}</text>
+"#,
+        w / 2.0,
+        esc(title)
+    )
+}
+
+/// `t` with `&`, `<`, `>` escaped for SVG text.
+pub(crate) fn esc(t: &str) -> String {
     t.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
