@@ -198,6 +198,14 @@ fn device_arguments_are_refused_before_any_device_is_asked() {
             "is a folder",
         ),
         (
+            vec!["check", "--rest-s", "0.5"],
+            "--rest-s 0.5: must be 1 to 60 s",
+        ),
+        (
+            vec!["check", "--move-s", "1e9"],
+            "--move-s 1e9: must be 1 to 60 s",
+        ),
+        (
             vec![
                 "record",
                 "--seconds",
@@ -807,6 +815,60 @@ fn a_repeating_twin_serves_past_the_end_of_its_scene() {
     let out = info();
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(twin.try_wait().expect("status").is_none(), "still serving");
+    twin.kill().expect("the twin stops");
+    twin.wait().expect("reaped");
+}
+
+#[test]
+fn a_device_check_of_a_good_board_says_so_and_finds_its_mapping() {
+    let (mut twin, addr) = start_twin(&["--scene", "check"]);
+    let out = output(&[
+        "device",
+        "--twin",
+        &addr,
+        "--json",
+        "check",
+        "--out",
+        "target/lab/cli-check",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON alone");
+    assert_eq!(v["verdict"]["problems"], serde_json::json!([]));
+    assert_eq!(v["verdict"]["mapping"], serde_json::json!([0, 1.0, 1, 1.0]));
+    assert_eq!(v["rest"]["gravity"], serde_json::json!([2, 1.0]));
+    // The steps are asked for on stderr, in order.
+    let err = text(&out.stderr);
+    let (a, b) = (
+        err.find("RIGHT").expect("asked right"),
+        err.find("AWAY").expect("asked away"),
+    );
+    assert!(a < b, "{err}");
+    twin.kill().expect("the twin stops");
+    twin.wait().expect("reaped");
+}
+
+#[test]
+fn a_device_check_of_a_board_mapped_wrong_says_what_to_set() {
+    let (mut twin, addr) = start_twin(&["--scene", "check"]);
+    let set = output(&["device", "--twin", &addr, "config", "set", "x_sign=-1"]);
+    assert_eq!(set.status.code(), Some(0), "{}", text(&set.stderr));
+    let out = output(&[
+        "device",
+        "--twin",
+        &addr,
+        "check",
+        "--out",
+        "target/lab/cli-check-wrong",
+    ]);
+    let said = text(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{said}{}", text(&out.stderr));
+    assert!(said.contains("moved right: sensor +X"), "{said}");
+    assert!(
+        said.contains("PROBLEM: the axes are mapped otherwise: set them with `cargo lab device config set x_axis=0 x_sign=1 y_axis=1 y_sign=1`"),
+        "{said}"
+    );
+    assert!(said.contains("verdict: 1 problem(s) to fix"), "{said}");
+    assert!(text(&out.stderr).contains("the check found 1 problem(s)"));
     twin.kill().expect("the twin stops");
     twin.wait().expect("reaped");
 }

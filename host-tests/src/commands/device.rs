@@ -67,6 +67,20 @@ pub enum What {
     Defaults,
     /// Calibrate again, wait for a window at rest (at most 10 windows) and show the new zero.
     Recalibrate,
+    /// Check a board: its noise and zero at rest against the ADXL335 data sheet, rails and
+    /// dead axes, gravity, then a move right and one away to find the axis mapping; a verdict
+    /// and a chart.
+    Check {
+        /// Time to record at rest [s].
+        #[arg(long, allow_negative_numbers = true, default_value_t = CHECK_REST_S)]
+        rest_s: f64,
+        /// Time given to each move [s].
+        #[arg(long, allow_negative_numbers = true, default_value_t = CHECK_MOVE_S)]
+        move_s: f64,
+        /// Directory for the chart.
+        #[arg(long, default_value = "target/lab/device-check")]
+        out: PathBuf,
+    },
     /// Record raw ADC codes to a CSV file in the lab's recording format.
     Record {
         /// Length [s] at the device's sampling rate.
@@ -77,6 +91,11 @@ pub enum What {
         out: PathBuf,
     },
 }
+
+/// How long `check` records at rest, by default [s].
+const CHECK_REST_S: f64 = 4.0;
+/// How long `check` gives each move, by default [s].
+const CHECK_MOVE_S: f64 = 5.0;
 
 /// `cargo lab device config ...`.
 #[derive(clap::Subcommand, Debug)]
@@ -394,6 +413,142 @@ fn record<L: Link>(c: &mut Client<L>, seconds: f64, out: &std::path::Path, json:
     summary(&rec, fs, out, json)
 }
 
+/// `seconds` of samples at `fs` [Hz], with the lost ones said (a check on a gap is unsound).
+fn take<L: Link>(c: &mut Client<L>, seconds: f64, fs: u32) -> Result<Vec<[u16; 3]>, Error> {
+    let n = (seconds * f64::from(fs)).round() as usize;
+    let rec = c.record_until(n, |_| {}, &INTERRUPTED)?;
+    if rec.interrupted {
+        return Err(Error::Run("interrupted".into()));
+    }
+    if rec.lost() > 0 || rec.missing_frames > 0 {
+        return Err(Error::Run(format!(
+            "{} samples lost while recording: lower fs_hz (or close other USB traffic) and \
+             check again",
+            rec.lost()
+        )));
+    }
+    Ok(rec.samples)
+}
+
+/// `cargo lab device check`: at rest, then a move right, then one away; the verdict.
+fn check<L: Link>(
+    c: &mut Client<L>,
+    [rest_s, move_s]: [f64; 2],
+    out: &std::path::Path,
+    json: bool,
+) -> Outcome {
+    use crate::device::check;
+    use crate::formats::chart::{Chart, Trace};
+    let fs = c.info()?.fs_hz;
+    let p = profile_of(&c.config()?);
+    let (m, bits) = (p.config.m_s2_per_lsb, p.config.adc_bits);
+    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed));
+    eprintln!("check 1/3: keep the mouse still, flat on the desk, for {rest_s} s ...");
+    let still = take(c, rest_s, fs)?;
+    let rest = check::at_rest(&still, f64::from(fs), m, bits);
+    let gravity: Vec<usize> = rest.gravity.iter().map(|g| g.0).collect();
+    eprintln!(
+        "check 2/3: now slide the mouse straight to the RIGHT, about 10 cm (within {move_s} s) ..."
+    );
+    let moved_right = take(c, move_s, fs)?;
+    let right = check::stroke(&moved_right, f64::from(fs), m, &rest, &gravity);
+    let mut exclude = gravity.clone();
+    exclude.extend(right.iter().map(|r| r.axis));
+    eprintln!(
+        "check 3/3: now slide it straight AWAY from you, about 10 cm (within {move_s} s) ..."
+    );
+    let moved_away = take(c, move_s, fs)?;
+    let away = check::stroke(&moved_away, f64::from(fs), m, &rest, &exclude);
+    let sign = |flip: bool| if flip { -1.0 } else { 1.0 };
+    let current = (
+        usize::from(p.map.x_axis),
+        sign(p.map.x_flip),
+        usize::from(p.map.y_axis),
+        sign(p.map.y_flip),
+    );
+    let v = check::verdict(&rest, right.as_ref(), away.as_ref(), current);
+    // The chart: every sample of the three steps, as acceleration off the rest level.
+    let all: Vec<[u16; 3]> = [still, moved_right, moved_away].concat();
+    let step = (all.len() / 3000).max(1);
+    let chart = Chart {
+        title: "device check: at rest, right, away".into(),
+        x_label: "t [s]".into(),
+        y_label: "acceleration off the rest level [m/s^2]".into(),
+        traces: (0..3)
+            .map(|k| Trace {
+                label: format!("sensor {}", check::AXES[k]),
+                color: super::COLORS[k],
+                pts: all
+                    .chunks(step)
+                    .enumerate()
+                    .map(|(i, ch)| {
+                        let mean =
+                            ch.iter().map(|s| f64::from(s[k])).sum::<f64>() / ch.len() as f64;
+                        (
+                            (i * step) as f64 / f64::from(fs),
+                            (mean - rest.axes[k].mean_lsb) * m,
+                        )
+                    })
+                    .collect(),
+            })
+            .collect(),
+        equal_aspect: false,
+    };
+    let plot = super::write_out(out, "check.svg", &chart.to_svg())?;
+    let report = if json {
+        super::json(&serde_json::json!({
+            "rest": rest, "right": right, "away": away, "verdict": v, "plot": plot,
+        }))?
+    } else {
+        let mut t = String::new();
+        for (k, a) in rest.axes.iter().enumerate() {
+            t += &format!(
+                "{}: {:.1} LSB ({:+.3} g), noise {:.2} LSB rms{}\n",
+                check::AXES[k],
+                a.mean_lsb,
+                a.reading_g,
+                a.sd_lsb,
+                a.noise_density_ug
+                    .map_or_else(String::new, |nd| format!(", {nd:.0} ug/sqrt(Hz)"))
+            );
+        }
+        for (what, s) in [("right", &right), ("away", &away)] {
+            t += &match s {
+                Some(s) => format!(
+                    "moved {what}: sensor {}{} (peak {:.2} m/s^2)\n",
+                    if s.sign > 0.0 { "+" } else { "-" },
+                    check::AXES[s.axis],
+                    s.peak_m_s2
+                ),
+                None => format!("moved {what}: not seen\n"),
+            };
+        }
+        for n in &v.notes {
+            t += &format!("ok: {n}\n");
+        }
+        for pr in &v.problems {
+            t += &format!("PROBLEM: {pr}\n");
+        }
+        t += &format!(
+            "verdict: {}\nplot: {}",
+            if v.problems.is_empty() {
+                "the board looks right".to_string()
+            } else {
+                format!("{} problem(s) to fix, above", v.problems.len())
+            },
+            plot.display()
+        );
+        t
+    };
+    if v.problems.is_empty() {
+        return Ok(report);
+    }
+    Err(Error::Check {
+        report,
+        why: format!("the check found {} problem(s)", v.problems.len()),
+    })
+}
+
 #[derive(Serialize)]
 struct RecordOut<'a> {
     file: &'a std::path::Path,
@@ -469,6 +624,11 @@ fn dispatch<L: Link>(mut c: Client<L>, a: &Args) -> Outcome {
         }
         What::Recalibrate => recalibrate(&mut c, a.json),
         What::Record { seconds, out } => record(&mut c, *seconds, out, a.json),
+        What::Check {
+            rest_s,
+            move_s,
+            out,
+        } => check(&mut c, [*rest_s, *move_s], out, a.json),
     }
 }
 
@@ -549,6 +709,19 @@ fn check_args(a: &Args) -> Result<(), Error> {
         What::Record { seconds, out } => {
             positive("seconds", *seconds)?;
             super::writable("out", out)
+        }
+        What::Check { rest_s, move_s, .. } => {
+            for (name, v) in [("rest-s", *rest_s), ("move-s", *move_s)] {
+                if !(v.is_finite() && (1.0..=60.0).contains(&v)) {
+                    return Err(Error::arg(
+                        name,
+                        crate::formats::number::Num(v),
+                        "must be 1 to 60 s (the Allan deviation needs a second; a user holds \
+                         still a minute at most)",
+                    ));
+                }
+            }
+            Ok(())
         }
         _ => Ok(()),
     }

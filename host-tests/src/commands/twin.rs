@@ -18,8 +18,9 @@ pub const EXAMPLE: &str = "cargo lab twin --seconds 30   (then: usbip attach -r 
 /// `cargo lab twin`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// The scene: `desk` (strokes, rests and clicks) or `rest` (the hand still for
-    /// `--seconds`, 10 s if not given).
+    /// The scene: `desk` (strokes, rests and clicks), `rest` (the hand still for
+    /// `--seconds`, 10 s if not given) or `check` (flat, still, then a stroke right and one
+    /// away: what `cargo lab device check` asks for).
     #[arg(long, default_value = "desk", conflicts_with = "replay")]
     pub scene: String,
     /// Play a recording (CSV of ADC codes, as `cargo lab replay`) instead of a scene.
@@ -89,7 +90,8 @@ fn input(a: &Args) -> Result<twin::Input, Error> {
             let (codes, held) = match a.scene.as_str() {
                 "desk" => desk::stream(a.strokes, a.seed),
                 "rest" => desk::rest(a.seconds.unwrap_or(10.0).clamp(0.0, 86_400.0), a.seed),
-                other => return Err(Error::arg("scene", other, "`desk` or `rest`")),
+                "check" => desk::check(a.seed),
+                other => return Err(Error::arg("scene", other, "`desk`, `rest` or `check`")),
             };
             twin::Input {
                 fs_hz: desk::FS as u32,

@@ -187,3 +187,27 @@ pub fn rest(seconds: f64, seed: u64) -> (Vec<[u16; 3]>, Vec<bool>) {
         .collect();
     (codes, vec![false; n])
 }
+
+/// When the check scene's strokes start [s]: right along sensor X, then away along sensor Y.
+pub const CHECK_STROKES_S: [f64; 2] = [6.5, 11.5];
+/// The check scene's length [s].
+pub const CHECK_S: f64 = 15.0;
+
+/// The scene `cargo lab device check` is tried on in CI: the board flat on the desk (gravity
+/// +1 g on sensor Z), at rest, then a 10 cm stroke right (sensor +X) in 0.5 s at
+/// [`CHECK_STROKES_S`]`[0]` and one away (sensor +Y) at `[1]`, then rest to [`CHECK_S`]. The
+/// check's steps (4 s at rest, then 5 s for each move) find each stroke inside its window
+/// with a second or more to spare either side.
+pub fn check(seed: u64) -> (Vec<[u16; 3]>, Vec<bool>) {
+    let mut rng = noise::rng(seed);
+    let mut sensor = Sensor::new(&mut rng);
+    let n = (CHECK_S * FS) as usize;
+    let codes = (0..n)
+        .map(|i| {
+            let t = i as f64 / FS;
+            let [right, away] = CHECK_STROKES_S.map(|s| min_jerk_accel(t - s, 0.5, 0.1));
+            sensor.codes([right, away, 0.0], [0.0, 0.0, G], &mut rng)
+        })
+        .collect();
+    (codes, vec![false; n])
+}
