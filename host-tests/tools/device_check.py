@@ -85,7 +85,8 @@ device("config", "set", "counts_per_inch=1600", "lowpass_fc_hz=80", "x_sign=-1",
        "drift.hold_s=0.02", "scheme=trapezoid", "calibration_s=0.5", "fs_hz=4000")
 changed = config()
 check(changed["counts_per_inch"] == 1600 and changed["lowpass_fc_hz"] == 80
-      and changed["x_sign"] == -1 and changed["scheme"] == 1 and changed["fs_hz"] == 4000,
+      and changed["x_sign"] == -1 and changed["scheme"] == "trapezoid"
+      and changed["fs_hz"] == 4000,
       "config set applies seven keys as a whole")
 r = device("config", "set", "counts_per_inch=3200", "adc_bits=1", expect=2)
 check("adc_bits" in r.stderr, f"a value that does not validate is named: {r.stderr.strip()}")
@@ -100,10 +101,12 @@ rec = os.path.join(WORK, "recording.csv")
 out = json.loads(device("--json", "record", "--seconds", "2", "--out", rec).stdout)
 check(out["samples"] == 8000 and out["lost"] == 0 and out["fs_hz"] == 4000,
       f"record: {out['samples']} samples at {out['fs_hz']} Hz, {out['lost']} lost")
-a = lab("allan", rec, "--columns", "x,y,z", "--scale", "0.0239", "--out",
-        os.path.join(WORK, "allan"))
-check("8000 samples at 4000 Hz" in a.stdout, "the recording reads back through lab allan")
-device("recalibrate")
+# The recording carries the device's profile: allan takes x,y,z and the scale from it.
+a = lab("allan", rec, "--out", os.path.join(WORK, "allan"))
+check("8000 samples at 4000 Hz" in a.stdout and "x: N_v" in a.stdout,
+      "the recording reads back through lab allan, columns and scale from its profile")
+r = device("recalibrate")
+check(r.stdout.startswith("recalibrated in "), f"recalibrate waits: {r.stdout.splitlines()[0]}")
 stop(t)
 
 t = twin(10)
