@@ -306,7 +306,20 @@ impl fmt::Display for Range {
     /// As `0.2..=2.4`, in words where an end is excluded: `0.003 to below 1500`, `above 0,
     /// up to 9.80665`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (lo, hi) = (Shown(self.min), Shown(self.max));
+        // Each included end rounded inwards to the digits shown, so that the value a user
+        // reads and types back is taken (0.00478840... shows as 0.0047885, not 0.0047884).
+        let (lo, hi) = (
+            Shown(if self.min_excluded {
+                self.min
+            } else {
+                Shown::inward(self.min, true)
+            }),
+            Shown(if self.max_excluded {
+                self.max
+            } else {
+                Shown::inward(self.max, false)
+            }),
+        );
         match (self.min_excluded, self.max_excluded) {
             (false, false) => write!(f, "{lo}..={hi}"),
             (false, true) => write!(f, "{lo} to below {hi}"),
@@ -320,6 +333,36 @@ impl fmt::Display for Range {
 /// in exponent form outside (`1e9`, not `1000000000`), with at most 6 significant digits.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Shown(pub f64);
+
+impl Shown {
+    /// The digits [`Shown`] prints after the point for `v` (plain form), if it prints it plain.
+    fn decimals(v: f64) -> Option<i32> {
+        let a = libm::fabs(v);
+        if v == 0.0 || !v.is_finite() {
+            return Some(0);
+        }
+        (1e-4..1e7)
+            .contains(&a)
+            .then(|| (5 - libm::floor(libm::log10(a)) as i32).clamp(0, 9))
+    }
+
+    /// `v` rounded up (`up`) or down to the digits it is shown with, so that what is shown
+    /// lies on that side of `v`. Values shown in exponent form are shown exactly.
+    pub fn inward(v: f64, up: bool) -> f64 {
+        match Self::decimals(v) {
+            Some(d) if d > 0 => {
+                let scale = libm::pow(10.0, f64::from(d));
+                let r = if up {
+                    libm::ceil(v * scale - 1e-6)
+                } else {
+                    libm::floor(v * scale + 1e-6)
+                };
+                r / scale
+            }
+            _ => v,
+        }
+    }
+}
 
 impl fmt::Display for Shown {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -561,9 +604,8 @@ impl Profile {
     /// ([`Key::unit`]); `None` for a flag or a sign, whose values [`Kind`] lists. The range
     /// depends on the other keys where the core's validation does: the low-pass cut-off and
     /// the calibration window on `fs_hz`, the scale on `adc_bits` (each taken within its
-    /// own range). Other limits that join keys are not ranges and are stated by
-    /// [`Key::about`] and the error: the two cursor axes differ; `drift.knock_hz`'s filter
-    /// fits the tick ring; `counts_per_inch` with the scale and rate gives a read-out ratio.
+    /// own range), and `drift.knock_hz`'s bottom on the rate (its filter must fit the tick
+    /// ring). The cursor axes must differ, which is not a range.
     pub fn range(&self, key: Key) -> Option<Range> {
         use crate::config::{
             CALIBRATION_SAMPLES_MIN, CALIBRATION_S_MAX, COUNTS_PER_INCH_MAX, FC_OVER_FS_MIN,
@@ -589,7 +631,10 @@ impl Profile {
             }),
             Key::FalseStartHours => pair(d::FALSE_START_HOURS),
             Key::HoldS => pair(d::HOLD_S),
-            Key::KnockHz => pair(d::KNOCK_HZ),
+            Key::KnockHz => pair((
+                crate::drift::knock_hz_min(self.config.fs_hz.clamp(FS_MIN_HZ, FS_MAX_HZ)),
+                d::KNOCK_HZ.1,
+            )),
             Key::StrokeMaxS => pair(d::STROKE_MAX_S),
             Key::GlideMaxS => pair(d::GLIDE_MAX_S),
             Key::LiftRiseS => pair(d::LIFT_RISE_S),

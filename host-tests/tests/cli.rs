@@ -318,11 +318,11 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
         ),
         (
             "m_s2_per_lsb=1e30",
-            "m_s2_per_lsb takes 0.0047884..=2.3942 m/s^2",
+            "m_s2_per_lsb takes 0.00478841..=2.3942 m/s^2",
         ),
         (
             "calibration_s=1000",
-            "calibration_s takes 0.00533333..=60 s",
+            "calibration_s takes 0.00533334..=60 s",
         ),
         ("adc_bits=16", "this board's ADC has 12 bits"),
         ("lowpass_fc_hz=2000", "0.003 to below 1500 Hz, or off"),
@@ -488,7 +488,7 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
     let err = text(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(
-        err.starts_with("error: --m-s2-per-lsb 1e9: takes 0.0047884..=2.3942 here"),
+        err.starts_with("error: --m-s2-per-lsb 1e9: takes 0.00478841..=2.3942 here"),
         "{err}"
     );
     let _ = std::fs::remove_file(&file);
@@ -815,6 +815,42 @@ fn a_repeating_twin_serves_past_the_end_of_its_scene() {
     let out = info();
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     assert!(twin.try_wait().expect("status").is_none(), "still serving");
+    // It samples in real time at every rate, one block a millisecond or not: 100 Hz is a
+    // block every 10 ms, 1500 Hz one or two a millisecond (it once played one block a
+    // millisecond at any rate: 100 Hz ran ten times fast).
+    for fs in ["100", "1500"] {
+        let set = output(&[
+            "device",
+            "--twin",
+            &addr,
+            "config",
+            "set",
+            &format!("fs_hz={fs}"),
+        ]);
+        assert_eq!(set.status.code(), Some(0), "{}", text(&set.stderr));
+        let started = std::time::Instant::now();
+        let file = std::env::temp_dir().join(format!("imu-cli-{}-{fs}.csv", std::process::id()));
+        let rec = lab()
+            .args([
+                "device",
+                "--twin",
+                &addr,
+                "--json",
+                "record",
+                "--seconds",
+                "1",
+                "--out",
+            ])
+            .arg(&file)
+            .output()
+            .expect("records");
+        let took = started.elapsed().as_secs_f64();
+        let v: serde_json::Value = serde_json::from_slice(&rec.stdout).expect("JSON");
+        assert_eq!(v["samples"].to_string(), fs, "{v}");
+        assert_eq!(v["lost"], 0, "{v}");
+        assert!(took > 0.9, "{fs} Hz: 1 s recorded in {took:.2} s");
+        let _ = std::fs::remove_file(&file);
+    }
     twin.kill().expect("the twin stops");
     twin.wait().expect("reaped");
 }
@@ -871,4 +907,33 @@ fn a_device_check_of_a_board_mapped_wrong_says_what_to_set() {
     assert!(text(&out.stderr).contains("the check found 1 problem(s)"));
     twin.kill().expect("the twin stops");
     twin.wait().expect("reaped");
+}
+
+#[test]
+fn a_replay_names_the_flag_the_user_gave() {
+    let file = rest_recording("flags");
+    let out = lab()
+        .arg("replay")
+        .arg(&file)
+        .args(["--adc-bits", "8"])
+        .output()
+        .expect("runs");
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.starts_with("error: --adc-bits 8: m_s2_per_lsb: the full scale"),
+        "{err}"
+    );
+    let out = lab()
+        .args(["allan", "--fs", "0", "--columns", "x", "--scale", "1"])
+        .arg(&file)
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).starts_with("error: --fs 0: must be"),
+        "{}",
+        text(&out.stderr)
+    );
+    let _ = std::fs::remove_file(&file);
 }

@@ -231,6 +231,45 @@ pub mod range {
     pub const CLICK_FREEZE_S: (f64, f64) = (0.0, 2.0);
 }
 
+/// The hand-band filter's two boxcars for `knock_hz` at ticks of `tick_s` [s]: 1 / knock_hz
+/// and two thirds of it, in whole ticks (at least one).
+fn knock_boxcars(knock_hz: f64, tick_s: f64) -> (u32, u32) {
+    use crate::math::round_to_u64 as round;
+    (
+        round(1.0 / (knock_hz * tick_s)).max(1) as u32,
+        round(2.0 / (3.0 * knock_hz * tick_s)).max(1) as u32,
+    )
+}
+
+/// Whether the hand-band filter for `knock_hz` fits the tick ring at ticks of `tick_s` [s].
+fn knock_fits(knock_hz: f64, tick_s: f64) -> bool {
+    let (l1, l2) = knock_boxcars(knock_hz, tick_s);
+    (l1 + l2) as usize <= RING - 2
+}
+
+/// The lowest `knock_hz` [Hz] a profile at `fs_hz` takes: the range's bottom, or higher where
+/// its filter would not fit the tick ring (the filter's length falls as the frequency rises,
+/// so the lowest that fits is found by bisection, to 1e-9 Hz).
+pub fn knock_hz_min(fs_hz: u32) -> f64 {
+    let tick_s = f64::from(tick_samples(fs_hz)) / f64::from(fs_hz.max(1));
+    let (mut lo, mut hi) = range::KNOCK_HZ;
+    if knock_fits(lo, tick_s) {
+        return lo;
+    }
+    if !knock_fits(hi, tick_s) {
+        return f64::INFINITY;
+    }
+    while hi - lo > 1e-9 {
+        let mid = 0.5 * (lo + hi);
+        if knock_fits(mid, tick_s) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
 /// A [`Drift`] field that failed validation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -456,9 +495,8 @@ impl Drift {
         }
         // The hand-band filter: boxcars of 1 / knock_hz (a null there) and two thirds of it
         // (a null at 1.5 knock_hz), in whole ticks.
-        let l1 = round(1.0 / (self.knock_hz * tick_s)).max(1) as u32;
-        let l2 = round(2.0 / (3.0 * self.knock_hz * tick_s)).max(1) as u32;
-        if (l1 + l2) as usize > RING - 2 {
+        let (l1, l2) = knock_boxcars(self.knock_hz, tick_s);
+        if !knock_fits(self.knock_hz, tick_s) {
             return Err(DriftError::Knock);
         }
         if !within(self.stroke_max_s, STROKE_MAX_S.0, STROKE_MAX_S.1) {

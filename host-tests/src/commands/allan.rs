@@ -99,6 +99,12 @@ pub fn run(a: &Args) -> Outcome {
             f.bias_instability_m_s2 / 9.806_65e-6,
             imu_core::profile::Shown(f.tau_min_s)
         );
+        if f.fit_is_short {
+            text += &format!(
+                "{name}: a short record: no tau on the white-noise line has 100 averages, so \
+                 the figures are rough (record a minute or more)\n"
+            );
+        }
         if f.bias_is_bound {
             text += &format!(
                 "{name}: the deviation still falls at the longest tau ({} s): the bias \

@@ -168,12 +168,17 @@ pub fn profile_pairs(
     };
     let mut out = Vec::with_capacity(map.len() + cli.len());
     for (name, v) in &map {
+        let flag = Key::from_name(name).is_some_and(|k| k.kind() == Kind::Flag);
         let word = match v {
             serde_json::Value::Null => "off".to_string(),
-            serde_json::Value::Bool(b) => (if *b { "on" } else { "off" }).to_string(),
+            serde_json::Value::Bool(b) if flag => (if *b { "on" } else { "off" }).to_string(),
             serde_json::Value::Number(n) => n.to_string(),
             serde_json::Value::String(w) => w.clone(),
-            other => return Err(bad(format!("{name}: {other} is not a value"))),
+            other => {
+                return Err(bad(format!(
+                    "{name}: {other} is not a value this key takes"
+                )))
+            }
         };
         let (key, value) = parse_pair(&format!("{name}={word}"))
             .map_err(|e| bad(e.to_string().replacen("config set ", "", 1)))?;
@@ -702,6 +707,13 @@ fn done(json: bool, what: &str, text: &str) -> Outcome {
 /// The arguments checked before the device is asked for anything.
 fn check_args(a: &Args) -> Result<(), Error> {
     positive("timeout", a.timeout)?;
+    if a.timeout > 3600.0 {
+        return Err(Error::arg(
+            "timeout",
+            crate::formats::number::Num(a.timeout),
+            "at most 3600 s",
+        ));
+    }
     match &a.what {
         What::Config {
             op: ConfigOp::Set { pairs, file },
@@ -711,13 +723,23 @@ fn check_args(a: &Args) -> Result<(), Error> {
             super::writable("out", out)
         }
         What::Check { rest_s, move_s, .. } => {
-            for (name, v) in [("rest-s", *rest_s), ("move-s", *move_s)] {
+            for (name, v, why) in [
+                (
+                    "rest-s",
+                    *rest_s,
+                    "the noise is read at 0.1 s and needs ten of them",
+                ),
+                (
+                    "move-s",
+                    *move_s,
+                    "a slide of 10 cm takes half a second, and a hand needs a moment to start",
+                ),
+            ] {
                 if !(v.is_finite() && (1.0..=60.0).contains(&v)) {
                     return Err(Error::arg(
                         name,
                         crate::formats::number::Num(v),
-                        "must be 1 to 60 s (the Allan deviation needs a second; a user holds \
-                         still a minute at most)",
+                        format!("must be 1 to 60 s ({why}; a minute at most)"),
                     ));
                 }
             }

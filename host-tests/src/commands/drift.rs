@@ -223,6 +223,9 @@ pub fn table(rows: &[Row]) -> String {
 /// One example, for `cargo lab` alone.
 pub const EXAMPLE: &str = "cargo lab drift host-tests/data/mpu6050-static-100hz.csv --columns ax,ay,az --scale 0.000598550415039 --calibrate-s 10 --t 1,5,20";
 
+/// The longest integration time `--t` [s].
+const T_MAX_S: f64 = 86_400.0;
+
 /// `cargo lab drift`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -263,8 +266,25 @@ pub fn run(a: &Args) -> super::Outcome {
         ));
     }
     positive("calibrate-s", a.calibrate_s)?;
+    if a.calibrate_s > imu_core::config::CALIBRATION_S_MAX {
+        return Err(Error::arg(
+            "calibrate-s",
+            crate::formats::number::Num(a.calibrate_s),
+            format!(
+                "at most {} s (the core's longest calibration window)",
+                imu_core::config::CALIBRATION_S_MAX
+            ),
+        ));
+    }
     for &t in &a.t {
         positive("t", t)?;
+        if t > T_MAX_S {
+            return Err(Error::arg(
+                "t",
+                crate::formats::number::Num(t),
+                format!("at most {T_MAX_S} s (a day; the recording must hold two segments)"),
+            ));
+        }
     }
     let d = a.rec.read()?;
     // --scale, else the recording's profile (`read` refused a file with neither).

@@ -270,6 +270,9 @@ impl Recording {
     /// as described.
     pub fn read(&self) -> Result<crate::formats::columns::Data, Error> {
         use crate::formats::columns::{self, Units};
+        if let Some(fs) = self.fs {
+            positive("fs", fs)?;
+        }
         let units = match (self.scale, self.units.as_deref()) {
             (Some(s), _) => Some(Units::Counts(positive("scale", s)?)),
             (None, Some("g")) => Some(Units::G),

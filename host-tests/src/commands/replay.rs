@@ -69,7 +69,7 @@ pub fn run(a: &Args) -> Outcome {
     if let Some(b) = a.adc_bits {
         p.config.adc_bits = b;
     }
-    p.validate().map_err(|e| argument(e, &p))?;
+    p.validate().map_err(|e| argument(e, &p, a, from))?;
     let accel = track::acceleration(&p.config, &p.map, &rec.samples);
     let t = track::run_mapped(&p.config, &p.map, rec.samples, every)
         .map_err(|e| Error::Input(e.to_string()))?;
@@ -113,25 +113,32 @@ pub fn run(a: &Args) -> Outcome {
     super::tracked(&t, report)
 }
 
-/// A refusal of the replayed profile, naming the flag where the user gave the value.
-fn argument(e: imu_core::ProfileError, p: &imu_core::Profile) -> Error {
+/// A refusal of the replayed profile, naming the flag the user gave (a resolution that
+/// makes the recorded scale span too little names `--adc-bits`), else where the settings came
+/// from.
+fn argument(e: imu_core::ProfileError, p: &imu_core::Profile, a: &Args, from: &str) -> Error {
     use imu_core::profile::Key;
-    let flag = match e.key() {
-        Key::MS2PerLsb => Some("m-s2-per-lsb"),
-        Key::AdcBits => Some("adc-bits"),
+    let key = match e.key() {
+        Key::MS2PerLsb if a.m_s2_per_lsb.is_none() && a.adc_bits.is_some() => Key::AdcBits,
+        k => k,
+    };
+    let flag = match key {
+        Key::MS2PerLsb if a.m_s2_per_lsb.is_some() => Some("m-s2-per-lsb"),
+        Key::AdcBits if a.adc_bits.is_some() => Some("adc-bits"),
         _ => None,
     };
     match flag {
         Some(name) => Error::arg(
             name,
-            imu_core::profile::Shown(p.get(e.key())),
+            imu_core::profile::Shown(p.get(key)),
             format!(
                 "{}{}",
-                p.range(e.key())
+                p.range(key)
+                    .filter(|_| key == e.key())
                     .map_or_else(String::new, |r| format!("takes {r} here: ")),
                 e
             ),
         ),
-        None => Error::Input(format!("the recording's profile: {e}")),
+        None => Error::Input(format!("the settings ({from}) do not run: {e}")),
     }
 }

@@ -133,6 +133,9 @@ fn operator() -> twin::Operator {
 /// # Errors
 /// A bad argument or recording; the socket; no host within `--wait-host`.
 pub fn run(a: &Args) -> Outcome {
+    if a.strokes == 0 || a.strokes > 10_000 {
+        return Err(Error::arg("strokes", a.strokes, "1..=10000"));
+    }
     let input = input(a)?;
     positive("wait-host", a.wait_host)?;
     if a.serial.is_empty()

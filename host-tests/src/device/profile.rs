@@ -45,15 +45,22 @@ pub fn read_pair(pair: &str) -> Result<(Key, f64), String> {
         bad(&format!("unknown key; the keys: {}", names.join(", ")))
     })?;
     let v = v.trim();
-    let word = match key.kind() {
-        Kind::Optional if v == "off" => Some(f64::NAN),
-        Kind::Flag => ["off", "on"].iter().position(|w| *w == v).map(|i| i as f64),
-        _ if key == Key::Scheme => SCHEMES.iter().position(|w| *w == v).map(|i| i as f64),
-        _ => None,
+    let word = |words: &[&str]| {
+        words
+            .iter()
+            .position(|w| w.eq_ignore_ascii_case(v))
+            .map(|i| i as f64)
     };
     let number = || v.parse::<f64>().ok().filter(|x| x.is_finite());
-    let value = word.or_else(number).ok_or_else(|| bad(wanted(key)))?;
-    Ok((key, value))
+    // A key of words takes its words only (`drift=1` would read as a flag's number); the
+    // others take numbers, and `off` where they may be off.
+    let value = match key.kind() {
+        Kind::Flag => word(&["off", "on"]),
+        _ if key == Key::Scheme => word(&SCHEMES),
+        Kind::Optional if v.eq_ignore_ascii_case("off") => Some(f64::NAN),
+        _ => number(),
+    };
+    Ok((key, value.ok_or_else(|| bad(wanted(key)))?))
 }
 
 /// The profile `pairs` describe: the defaults with each pair set in order. A pair the key
@@ -124,5 +131,16 @@ mod tests {
             .expect_err("unknown")
             .contains("unknown key"));
         assert!(read_pair("drift").expect_err("no =").contains("KEY=VALUE"));
+        // Words, in any case, for the keys of words; their numbers are refused.
+        assert_eq!(read_pair("scheme=Trapezoid"), Ok((Key::Scheme, 1.0)));
+        assert_eq!(read_pair("drift=ON"), Ok((Key::Drift, 1.0)));
+        for pair in ["scheme=1", "drift=0", "scheme=0.5", "drift=2"] {
+            assert!(
+                read_pair(pair).expect_err(pair).contains("must be"),
+                "{pair}"
+            );
+        }
+        let (k, v) = read_pair("lowpass_fc_hz=OFF").expect("off");
+        assert!(k == Key::LowpassFcHz && v.is_nan());
     }
 }

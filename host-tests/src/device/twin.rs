@@ -139,6 +139,11 @@ impl Playhead {
         self.index(0)
     }
 
+    /// The device samples played since the start or the last [`Self::retime`].
+    pub const fn device_samples(&self) -> u64 {
+        self.n
+    }
+
     /// `samples` device samples played.
     pub fn advance(&mut self, samples: usize) {
         self.n += samples as u64;
@@ -393,6 +398,8 @@ pub fn run(
     let mut drain_left = (s.drain_s * 1000.0) as u32;
     let mut ms = 0u32;
     let mut head = Playhead::new(input.fs_hz, config.fs_hz);
+    // The millisecond the trigger timer started at the running rate.
+    let mut timed_from = 0u32;
     let mut chunk_buf: Vec<[u16; 3]> = Vec::with_capacity(device::block_len(device::FS_MAX_HZ));
     loop {
         board.now = ms.wrapping_mul(CLOCK_HZ / 1000);
@@ -402,46 +409,73 @@ pub fn run(
             _ => {}
         }
         if s.repeat && head.index(block - 1) >= input.codes.len() {
-            head = Playhead::new(input.fs_hz, config.fs_hz);
+            // From the start again, at the running rate, the timer counted afresh from here
+            // (less than a block of phase: the scene's samples are not the device's anyway).
+            head = Playhead::new(input.fs_hz, commands.running().config.fs_hz);
+            timed_from = ms;
         }
+        // The blocks the trigger timer has made by the end of this millisecond: one a
+        // millisecond at multiples of 1 kHz, one every 10 ms at 100 Hz, 1 or 2 at 1500 Hz.
+        let made = (u64::from(ms.saturating_sub(timed_from)) + 1)
+            * u64::from(commands.running().config.fs_hz)
+            / 1000
+            / block as u64;
+        let due = made.saturating_sub(head.device_samples() / block as u64);
         if head.index(block - 1) < input.codes.len() {
-            let played = head.played();
-            scene_key.store(
-                input.held.get(played).copied().unwrap_or(false),
-                Ordering::Relaxed,
-            );
-            chunk_buf.clear();
-            chunk_buf.extend((0..block).map(|j| input.codes[head.index(j)]));
-            // Running: a block a millisecond. Suspended: the probe's block of three scans
-            // 20 ms apart, every 60 ms, the last of them now, from the scene as it goes on.
-            let probing = board.arr == probe_arr;
-            let step = (input.fs_hz / PROBE_HZ) as usize;
-            let due = !probing || ms.is_multiple_of(PROBE_SCANS as u32 * 1000 / PROBE_HZ);
-            let probe: [[u16; 3]; PROBE_SCANS] = core::array::from_fn(|k| {
-                let back = (PROBE_SCANS - 1 - k) * step;
-                input.codes[head.index(block - 1).saturating_sub(back)]
-            });
-            let chunk: &[[u16; 3]] = if probing { &probe } else { &chunk_buf };
-            if due {
-                if let Outcome::Block(delivery) = sampling.on_dma(&mut board, DmaEvent::Full) {
-                    power.probed(&status, chunk);
-                    on_block(
-                        chunk,
-                        delivery,
-                        ms,
-                        route,
-                        &mut Exclusive(&mut tracker),
-                        &mut Exclusive(&mut status),
-                        &mut Exclusive(&mut stream),
-                    );
+            for first in (0..due).map(|i| i == 0) {
+                if head.index(block - 1) >= input.codes.len() {
+                    break;
                 }
+                // The block's own completion time on the sample clock, as the ledger reads it.
+                let k = head.device_samples() / block as u64 + 1;
+                let fs = u64::from(commands.running().config.fs_hz).max(1);
+                board.now = (u64::from(timed_from) * u64::from(CLOCK_HZ / 1000)
+                    + k * block as u64 * u64::from(CLOCK_HZ) / fs)
+                    as u32;
+                let played = head.played();
+                scene_key.store(
+                    input.held.get(played).copied().unwrap_or(false),
+                    Ordering::Relaxed,
+                );
+                chunk_buf.clear();
+                chunk_buf.extend((0..block).map(|j| input.codes[head.index(j)]));
+                // Running: a block a millisecond. Suspended: the probe's block of three scans
+                // 20 ms apart, every 60 ms, the last of them now, from the scene as it goes on.
+                let probing = board.arr == probe_arr;
+                let step = (input.fs_hz / PROBE_HZ) as usize;
+                let due = if probing {
+                    first && ms.is_multiple_of(PROBE_SCANS as u32 * 1000 / PROBE_HZ)
+                } else {
+                    true
+                };
+                let probe: [[u16; 3]; PROBE_SCANS] = core::array::from_fn(|k| {
+                    let back = (PROBE_SCANS - 1 - k) * step;
+                    input.codes[head.index(block - 1).saturating_sub(back)]
+                });
+                let chunk: &[[u16; 3]] = if probing { &probe } else { &chunk_buf };
+                if due {
+                    if let Outcome::Block(delivery) = sampling.on_dma(&mut board, DmaEvent::Full) {
+                        power.probed(&status, chunk);
+                        on_block(
+                            chunk,
+                            delivery,
+                            ms,
+                            route,
+                            &mut Exclusive(&mut tracker),
+                            &mut Exclusive(&mut status),
+                            &mut Exclusive(&mut stream),
+                        );
+                    }
+                }
+                // The motion's onset as the scene has it: its first sample, at the full rate,
+                // past the wake threshold from the suspend's first probe.
+                if power.moved(&status, &chunk_buf) {
+                    power.cause(ms, "motion");
+                }
+                head.advance(block);
             }
-            // The motion's onset as the scene has it: its first sample, at the full rate,
-            // past the wake threshold from the suspend's first probe.
-            if power.moved(&status, &chunk_buf) {
-                power.cause(ms, "motion");
-            }
-            head.advance(block);
+            // The rest of the millisecond runs at its end, after every block it made.
+            board.now = (ms + 1).wrapping_mul(CLOCK_HZ / 1000);
         } else {
             scene_key.store(false, Ordering::Relaxed);
             let owed = mouse.reports().pending() || monitor.in_flight();
@@ -474,6 +508,7 @@ pub fn run(
             let fs_hz = commands.running().config.fs_hz;
             block = device::block_len(fs_hz);
             head.retime(fs_hz);
+            timed_from = ms + 1;
             sampling = new_sampling(fs_hz).map_err(|e| TwinError::Device(e.to_string()))?;
             sampling.start(&mut board);
         }

@@ -92,6 +92,9 @@ pub struct Figures {
     pub bias_is_bound: bool,
     /// The taus the -1/2 fit used [s].
     pub fit_taus_s: Vec<f64>,
+    /// Whether no tau on the -1/2 line had 100 averages (a short record): the fit took the
+    /// slope alone, and the figures are rough.
+    pub fit_is_short: bool,
 }
 
 /// Reads the figures from `a` (at least two taus).
@@ -104,22 +107,34 @@ pub fn figures(a: &Adev) -> Option<Figures> {
         .iter()
         .enumerate()
         .min_by(|x, y| x.1.total_cmp(y.1))?;
-    let mut fit = vec![];
-    for i in 0..imin.max(1) {
+    let slope_off = |i: usize| {
         let slope = if i + 1 < a.adev.len() {
             (a.adev[i + 1] / a.adev[i]).ln() / (a.taus_s[i + 1] / a.taus_s[i]).ln()
         } else {
             -0.5
         };
-        let m = (a.taus_s[i] / a.taus_s[0]).round();
-        if (slope + 0.5).abs() <= 0.1 && a.n[i] as f64 / m >= 100.0 {
+        (slope + 0.5).abs()
+    };
+    let slope_ok = |i: usize| slope_off(i) <= 0.1;
+    let averages = |i: usize| a.n[i] as f64 / (a.taus_s[i] / a.taus_s[0]).round();
+    let mut fit = vec![];
+    for i in 0..imin.max(1) {
+        if slope_ok(i) && averages(i) >= 100.0 {
             fit.push(i);
         } else if !fit.is_empty() {
             break;
         }
     }
+    // A record too short for 100 averages on the white part: the slope alone picks the taus
+    // (the first tau of a filtered sensor lies on its flat part and reads far low: a 3 s
+    // record at 3 kHz read 28 instead of about 300 ug/sqrt(Hz)).
+    let short = fit.is_empty();
+    if short {
+        fit = (0..imin.max(1)).filter(|&i| slope_ok(i)).collect();
+    }
     if fit.is_empty() {
-        fit.push(0);
+        // No slope within 0.1 of -1/2 either: the tau whose slope comes nearest.
+        fit.extend((0..imin.max(1)).min_by(|&i, &j| slope_off(i).total_cmp(&slope_off(j))));
     }
     // Equal weights: the smallest taus are the most precise but, for filtered noise, the
     // most biased (still approaching the -1/2 line from below).
@@ -136,6 +151,7 @@ pub fn figures(a: &Adev) -> Option<Figures> {
         tau_min_s: a.taus_s[imin],
         bias_is_bound: imin + 1 == a.adev.len(),
         fit_taus_s: fit.iter().map(|&i| a.taus_s[i]).collect(),
+        fit_is_short: short,
     })
 }
 

@@ -377,6 +377,14 @@ pub struct Args {
     pub sensitivity: bool,
 }
 
+/// The longest `--rest-minutes`.
+const REST_MINUTES_MAX: f64 = 120.0;
+/// The noisiest `--noise-ug` [ug/sqrt(Hz)]: through the sensor's 50 Hz pole the noise's rms
+/// is `ND sqrt(pi/2 x 50 Hz)` = 8.9 ND, and the default rest bound of 0.1 m/s^2 rms is reached
+/// at ND = 0.1 / 8.9 / 9.8e-6 = 1150 ug/sqrt(Hz); above 1000 calibration all but never
+/// succeeds.
+const NOISE_UG_MAX: f64 = 1000.0;
+
 /// Runs `cargo lab mouse`: the desk scene, the hand model's families, circles, the map; or
 /// one of `--trace`, `--families`, `--long-rest`, `--sensitivity`.
 ///
@@ -387,6 +395,43 @@ pub fn run(a: &Args) -> super::Outcome {
         return Err(super::Error::arg("strokes", a.strokes, "1..=10000"));
     }
     super::positive("rest-minutes", a.rest_minutes)?;
+    if a.rest_minutes > REST_MINUTES_MAX {
+        return Err(super::Error::arg(
+            "rest-minutes",
+            crate::formats::number::Num(a.rest_minutes),
+            format!("at most {REST_MINUTES_MAX} (the rest is held in memory, about 1 MB a minute)"),
+        ));
+    }
+    if let Some(fs) = a.fs {
+        if !imu_app::device::rate_accepted(fs, 96_000_000) {
+            return Err(super::Error::arg(
+                "fs",
+                fs,
+                "the device's rates: 100..=20000 Hz, dividing its 96 MHz clock",
+            ));
+        }
+    }
+    if let Some(nd) = a.noise_ug {
+        if !(nd.is_finite() && nd > 0.0 && nd <= NOISE_UG_MAX) {
+            return Err(super::Error::arg(
+                "noise-ug",
+                crate::formats::number::Num(nd),
+                format!(
+                    "must be above 0 and at most {NOISE_UG_MAX} ug/sqrt(Hz): noisier, no window \
+                     passes the 0.1 m/s^2 rest bound and nothing is ever tracked"
+                ),
+            ));
+        }
+    }
+    if let Some(b) = a.bits {
+        if !(2..=16).contains(&b) {
+            return Err(super::Error::arg(
+                "bits",
+                b,
+                "the core's ADC resolutions: 2..=16",
+            ));
+        }
+    }
     if let Some(t) = &a.trace {
         let bad = || {
             let names: Vec<&str> = families::Kind::ALL.iter().map(|k| k.name()).collect();
