@@ -350,7 +350,7 @@ impl Shown {
     /// lies on that side of `v`. Values shown in exponent form are shown exactly.
     pub fn inward(v: f64, up: bool) -> f64 {
         match Self::decimals(v) {
-            Some(d) if d > 0 => {
+            Some(d) => {
                 let scale = libm::pow(10.0, f64::from(d));
                 let r = if up {
                     libm::ceil(v * scale - 1e-6)
@@ -359,7 +359,7 @@ impl Shown {
                 };
                 r / scale
             }
-            _ => v,
+            None => v,
         }
     }
 }
@@ -367,16 +367,11 @@ impl Shown {
 impl fmt::Display for Shown {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let v = self.0;
-        let a = libm::fabs(v);
-        if !(v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&a)) {
+        let Some(digits) = Self::decimals(v) else {
             return write!(f, "{v:e}");
-        }
-        // Six significant digits, trailing zeros dropped: 0.023942 stays, 1/3 is 0.333333.
-        let digits = if v == 0.0 || !v.is_finite() {
-            0
-        } else {
-            (5 - libm::floor(libm::log10(a)) as i32).clamp(0, 9) as usize
         };
+        // Six significant digits, trailing zeros dropped: 0.023942 stays, 1/3 is 0.333333.
+        let digits = digits as usize;
         let mut buf = heapless::String::<32>::new();
         if fmt::write(&mut buf, format_args!("{v:.digits$}")).is_err() {
             return write!(f, "{v}");

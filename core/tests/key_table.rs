@@ -241,6 +241,19 @@ fn ranges_and_numbers_read_as_a_person_writes_them() {
     assert_eq!(show(0.0), "0");
     assert_eq!(show(-2.5), "-2.5");
     assert_eq!(show(1e-6), "1e-6");
+    assert_eq!(show(123_456.7), "123457");
+    assert_eq!(show(1e7), "1e7");
+    assert_eq!(show(9_999_999.0), "9999999");
+    assert_eq!(show(1e-4), "0.0001");
+    // Rounded inwards to the digits shown: what is shown lies on the asked side.
+    assert_eq!(Shown::inward(16.0 / 3000.0, true), 0.005_333_34);
+    assert_eq!(Shown::inward(16.0 / 3000.0, false), 0.005_333_33);
+    assert_eq!(Shown::inward(123_456.7, false), 123_456.0);
+    assert_eq!(Shown::inward(123_456.2, true), 123_457.0);
+    assert_eq!(Shown::inward(0.5, true), 0.5);
+    assert_eq!(Shown::inward(0.5, false), 0.5);
+    assert_eq!(Shown::inward(1e9, false), 1e9);
+    assert_eq!(Shown::inward(0.0, true), 0.0);
     let r = Range {
         min: 0.2,
         min_excluded: false,
