@@ -130,6 +130,38 @@ fn a_bad_argument_is_named_on_stderr_with_status_2() {
             vec!["twin", "--serial", "two words"],
             "--serial two words: must be 1 to 32 letters",
         ),
+        (
+            vec!["twin", "--flash", "/nonexistent/flash.bin"],
+            "--flash /nonexistent/flash.bin: its folder /nonexistent does not exist",
+        ),
+        (
+            vec!["replay", "/nonexistent/imu.csv", "--every", "1e300"],
+            "--every 1e300: at most 3600 s",
+        ),
+        (
+            vec![
+                "allan",
+                "/nonexistent/imu.csv",
+                "--columns",
+                "x",
+                "--scale",
+                "1e300",
+            ],
+            "--scale 1e300: at most 1000",
+        ),
+        (
+            vec![
+                "allan",
+                "/nonexistent/imu.csv",
+                "--columns",
+                "x",
+                "--scale",
+                "1",
+                "--fs",
+                "1e300",
+            ],
+            "--fs 1e300: at most 1e6 Hz",
+        ),
     ] {
         let out = output(&args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

@@ -272,6 +272,22 @@ impl Recording {
         use crate::formats::columns::{self, Units};
         if let Some(fs) = self.fs {
             positive("fs", fs)?;
+            if fs > 1e6 {
+                return Err(Error::arg(
+                    "fs",
+                    crate::formats::number::Num(fs),
+                    "at most 1e6 Hz",
+                ));
+            }
+        }
+        if let Some(s) = self.scale {
+            if s > 1e3 {
+                return Err(Error::arg(
+                    "scale",
+                    crate::formats::number::Num(s),
+                    "at most 1000 m/s^2 per count (100 g a count is no accelerometer's)",
+                ));
+            }
         }
         let units = match (self.scale, self.units.as_deref()) {
             (Some(s), _) => Some(Units::Counts(positive("scale", s)?)),

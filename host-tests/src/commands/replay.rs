@@ -46,6 +46,13 @@ pub fn run(a: &Args) -> Outcome {
     // The arguments first (status 2), before the file is read.
     let fs_arg = a.fs.map(|fs| positive("fs", fs)).transpose()?;
     let every = positive("every", a.every)?;
+    if every > 3600.0 {
+        return Err(Error::arg(
+            "every",
+            crate::formats::number::Num(every),
+            "at most 3600 s",
+        ));
+    }
     let rec =
         recording::parse(super::open(&a.file)?, fs_arg).map_err(|e| Error::file(&a.file, e))?;
     // The device's settings as recorded, else the board's defaults; the flags change them.

@@ -151,6 +151,11 @@ pub fn run(a: &Args) -> Outcome {
             "must be 1 to 32 letters, digits or dashes",
         ));
     }
+    if let Some(path) = &a.flash {
+        if !path.exists() {
+            super::writable("flash", path)?;
+        }
+    }
     let flash = match &a.flash {
         Some(path) => FileFlash::open(path).map_err(|e| Error::file(path, e))?,
         None => FileFlash::blank(),

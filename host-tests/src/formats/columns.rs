@@ -275,6 +275,18 @@ pub fn read(input: impl BufRead, o: &Options) -> Result<Data, RecordingError> {
     } else {
         None
     };
+    if let (Some(f), Some(m)) = (o.fs, fs_meta) {
+        if (f - m).abs() > 1e-6 * m {
+            return err(
+                0,
+                format!(
+                    "--fs says {} Hz but the fs line says {} Hz: which rate is it?",
+                    super::number::Num(f),
+                    super::number::Num(m)
+                ),
+            );
+        }
+    }
     let (fs, fs_source) = match (o.fs, fs_time, fs_meta) {
         (Some(f), _, _) => (f, "--fs"),
         (None, Some(f), _) => (f, "the time column"),
@@ -404,6 +416,20 @@ mod tests {
         assert_eq!(
             read("fs,10\nax\n1\n".as_bytes(), &o).map(|d| d.raw[0].len()),
             Ok(1)
+        );
+    }
+
+    #[test]
+    fn a_rate_given_against_the_file_s_own_is_refused() {
+        let o = Options {
+            fs: Some(1000.0),
+            ..opts(&["x"])
+        };
+        fails(
+            "fs,3000\nx\n1\n",
+            &o,
+            0,
+            "--fs says 1000 Hz but the fs line says 3000 Hz",
         );
     }
 

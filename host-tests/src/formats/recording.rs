@@ -274,13 +274,23 @@ pub fn parse(input: impl BufRead, fs_arg: Option<f64>) -> Result<Recording, Reco
         .iter()
         .find(|(_, v)| (v - fs).abs() > 1e-6 * fs.abs())
     {
-        return err(0, format!("{name} says {fs} Hz but {other} says {v} Hz"));
+        return err(
+            0,
+            format!(
+                "{name} says {} Hz but {other} says {} Hz",
+                super::number::Num(fs),
+                super::number::Num(v)
+            ),
+        );
     }
     let whole = fs.round();
     if (fs - whole).abs() > 1e-6 * fs || !(1.0..=100_000.0).contains(&whole) {
         return err(
             0,
-            format!("sampling rate {fs} Hz: must be a whole number of Hz, 1..=100000"),
+            format!(
+                "sampling rate {} Hz: must be a whole number of Hz, 1..=100000",
+                super::number::Num(fs)
+            ),
         );
     }
     Ok(Recording {
