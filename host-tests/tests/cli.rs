@@ -162,6 +162,60 @@ fn a_bad_argument_is_named_on_stderr_with_status_2() {
             ],
             "--fs 1e300: at most 1e6 Hz",
         ),
+        // The bounds a new user's trial found missing (no panic, no 1 TB allocation).
+        (
+            vec!["mouse", "--trace", "drags:1", "--fs", "50"],
+            "--fs 50: the device's rates",
+        ),
+        (
+            vec!["mouse", "--trace", "drags:1", "--noise-ug", "1e9"],
+            "--noise-ug 1e9: must be above 0 and at most 1000",
+        ),
+        (
+            vec!["mouse", "--trace", "drags:1", "--bits", "17"],
+            "--bits 17: the core's ADC resolutions",
+        ),
+        (
+            vec!["mouse", "--rest-minutes", "1e12"],
+            "--rest-minutes 1e12: at most",
+        ),
+        (
+            vec![
+                "drift",
+                "/nonexistent/imu.csv",
+                "--calibrate-s",
+                "1e9",
+                "--t",
+                "1",
+            ],
+            "--calibrate-s 1e9: at most 60 s",
+        ),
+        (
+            vec![
+                "drift",
+                "/nonexistent/imu.csv",
+                "--calibrate-s",
+                "1",
+                "--t",
+                "1e300",
+            ],
+            "--t 1e300: at most",
+        ),
+        (
+            vec![
+                "device",
+                "--twin",
+                "127.0.0.1:1",
+                "--timeout",
+                "1e9",
+                "info",
+            ],
+            "--timeout 1e9: at most 3600 s",
+        ),
+        (
+            vec!["twin", "--strokes", "1000000"],
+            "--strokes 1000000: 1..=10000",
+        ),
     ] {
         let out = output(&args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");
