@@ -243,7 +243,11 @@ fn knock_boxcars(knock_hz: f64, tick_s: f64) -> (u32, u32) {
 
 /// Whether the hand-band filter for `knock_hz` fits the tick ring at ticks of `tick_s` [s].
 fn knock_fits(knock_hz: f64, tick_s: f64) -> bool {
-    let (l1, l2) = knock_boxcars(knock_hz, tick_s);
+    boxcars_fit(knock_boxcars(knock_hz, tick_s))
+}
+
+/// Whether boxcars of `l1` and `l2` ticks fit the tick ring.
+fn boxcars_fit((l1, l2): (u32, u32)) -> bool {
     (l1 + l2) as usize <= RING - 2
 }
 
@@ -496,7 +500,7 @@ impl Drift {
         // The hand-band filter: boxcars of 1 / knock_hz (a null there) and two thirds of it
         // (a null at 1.5 knock_hz), in whole ticks.
         let (l1, l2) = knock_boxcars(self.knock_hz, tick_s);
-        if !knock_fits(self.knock_hz, tick_s) {
+        if !boxcars_fit((l1, l2)) {
             return Err(DriftError::Knock);
         }
         if !within(self.stroke_max_s, STROKE_MAX_S.0, STROKE_MAX_S.1) {
