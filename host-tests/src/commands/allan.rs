@@ -28,9 +28,9 @@ fn rails(d: &crate::formats::columns::Data) -> Vec<Option<(f64, f64)>> {
     let bits = d
         .profile
         .as_ref()
-        .and_then(|p| p.iter().find(|(k, _)| k == "adc_bits"))
-        .and_then(|(_, v)| v.parse::<u32>().ok())
-        .filter(|b| (2..=16).contains(b));
+        .and_then(|p| crate::formats::recording::profile_number(p, "adc_bits"))
+        .filter(|b| b.fract() == 0.0 && (2.0..=16.0).contains(b))
+        .map(|b| b as u32);
     d.raw
         .iter()
         .map(|col| {
