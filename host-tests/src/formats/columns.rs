@@ -24,7 +24,9 @@
 use std::io::BufRead;
 
 use crate::formats::lines::{content_lines, quote};
-use crate::formats::recording::{err, profile_number, read_profile, RecordingError};
+use crate::formats::recording::{
+    err, profile_number, read_fs, read_second_profile, RecordingError,
+};
 
 /// How the values become m/s^2.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -182,21 +184,12 @@ pub fn read(input: impl BufRead, o: &Options) -> Result<Data, RecordingError> {
         match &mut header {
             Some(h) => h.row(line, &fields, &mut raw, &mut times)?,
             None if fields[0].eq_ignore_ascii_case("profile") => {
-                profile = Some(read_profile(&fields).or_else(|e| err(line, e))?);
+                profile = Some(
+                    read_second_profile(profile.is_some(), &fields).or_else(|e| err(line, e))?,
+                );
             }
             None if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") => {
-                match fields[1].parse::<f64>() {
-                    Ok(v) if v.is_finite() && v > 0.0 => fs_meta = Some(v),
-                    _ => {
-                        return err(
-                            line,
-                            format!(
-                                "`{}`: the sampling rate must be a number > 0",
-                                quote(&l.text)
-                            ),
-                        )
-                    }
-                }
+                fs_meta = Some(read_fs(fs_meta, fields[1]).or_else(|e| err(line, e))?);
             }
             None => {
                 // A device's recording names its axes x, y, z.
@@ -400,6 +393,15 @@ mod tests {
         fails("fs,100\nbx,by,bz\n1,2,3\n", &o, 2, "no column ax");
         fails("ax,ay\n1,2\n", &o, 0, "no sampling rate");
         fails("fs,-1\nax\n1\n", &o, 1, "must be a number > 0");
+        // docs/lab.md: two rates, or two profiles, are an error, as replay reads them.
+        fails("fs,100\nfs,200\nax\n1\n", &o, 2, "a second `fs` line says 200 Hz");
+        assert!(read("fs,100\nfs,100\nax\n1\n".as_bytes(), &o).is_ok());
+        fails(
+            "fs,100\nprofile,fs_hz=100\nprofile,fs_hz=100\nax\n1\n",
+            &o,
+            3,
+            "a second `profile` line",
+        );
         let mut t = opts(&["ax"]);
         t.time_column = Some("t".into());
         fails("t,ax\n0,1\n0,2\n", &t, 3, "does not increase");

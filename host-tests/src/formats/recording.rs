@@ -94,6 +94,33 @@ pub fn profile_line(pairs: &[(String, String)]) -> String {
     s
 }
 
+/// The rate [Hz] an `fs,<Hz>` line's `value` gives, or why not: a finite number above 0,
+/// and the same as an earlier `fs` line's (`before`), if there was one.
+pub(crate) fn read_fs(before: Option<f64>, value: &str) -> Result<f64, String> {
+    match value.parse::<f64>() {
+        Ok(v) if before.is_some_and(|f| f != v) => Err(format!(
+            "a second `fs` line says {} Hz: which rate is it?",
+            quote(value)
+        )),
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!(
+            "`fs,{}`: the sampling rate must be a number > 0 Hz",
+            quote(value)
+        )),
+    }
+}
+
+/// [`read_profile`], refused if the file had a `profile` line already (`seen`).
+pub(crate) fn read_second_profile(
+    seen: bool,
+    fields: &[&str],
+) -> Result<Vec<(String, String)>, String> {
+    if seen {
+        return Err("a second `profile` line: which settings are they?".into());
+    }
+    read_profile(fields)
+}
+
 /// The pairs of a `profile` line's `fields` (the word `profile` first), or why not: each
 /// `KEY=VALUE`, no key twice.
 pub(crate) fn read_profile(fields: &[&str]) -> Result<Vec<(String, String)>, String> {
@@ -136,31 +163,13 @@ pub fn parse(input: impl BufRead, fs_arg: Option<f64>) -> Result<Recording, Reco
         let (line, fields) = (l.number, l.fields());
         let Some(clk) = clock else {
             if fields.len() == 2 && fields[0].eq_ignore_ascii_case("fs") {
-                match fields[1].parse::<f64>() {
-                    Ok(v) if fs_line.is_some_and(|f| f != v) => {
-                        return err(
-                            line,
-                            format!("a second `fs` line says {v} Hz: which rate is it?"),
-                        )
-                    }
-                    Ok(v) if v.is_finite() && v > 0.0 => fs_line = Some(v),
-                    _ => {
-                        return err(
-                            line,
-                            format!(
-                                "`fs,{}`: the sampling rate must be a number > 0 Hz",
-                                quote(fields[1])
-                            ),
-                        )
-                    }
-                }
+                fs_line = Some(read_fs(fs_line, fields[1]).or_else(|e| err(line, e))?);
                 continue;
             }
             if fields[0].eq_ignore_ascii_case("profile") {
-                if profile.is_some() {
-                    return err(line, "a second `profile` line: which settings are they?");
-                }
-                profile = Some(read_profile(&fields).or_else(|e| err(line, e))?);
+                profile = Some(
+                    read_second_profile(profile.is_some(), &fields).or_else(|e| err(line, e))?,
+                );
                 continue;
             }
             let names: Vec<String> = fields.iter().map(|f| f.to_ascii_lowercase()).collect();
