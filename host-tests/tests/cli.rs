@@ -473,7 +473,32 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
         "{}",
         text(&out.stderr)
     );
+    // A key twice is refused, not taken as the last; a profile that is not an object
+    // says so.
+    for (body, says) in [
+        (
+            "{\"counts_per_inch\": 400, \"counts_per_inch\": 1600}",
+            "counts_per_inch is given twice",
+        ),
+        ("[800]", "not a profile: invalid type: sequence"),
+        ("{\"counts_per_inch\": ", "not JSON"),
+    ] {
+        std::fs::write(&profile, body).expect("written");
+        let out = device(&["config", "set", "--file", p]);
+        assert_eq!(out.status.code(), Some(1), "{body}");
+        assert!(
+            text(&out.stderr).starts_with(&format!("error: {p}: {says}")),
+            "{body}: {}",
+            text(&out.stderr)
+        );
+    }
     let _ = std::fs::remove_file(&profile);
+    let out = device(&["config", "set", "--file", p]);
+    assert_eq!(
+        text(&out.stderr).trim_end(),
+        format!("error: {p}: no such file"),
+        "a missing file in words, not an OS error number"
+    );
     // A rate the device cannot run is refused naming the rate (not the calibration window
     // it would make too short), with status 2, and changes nothing.
     let before = text(&device(&["config", "get"]).stdout);
@@ -587,8 +612,21 @@ fn a_twin_that_cannot_listen_says_so_and_never_that_it_waits() {
     let out = output(&["twin", "--addr", "192.0.2.1:3240", "--seconds", "1"]);
     let err = text(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
-    assert!(err.contains("cannot listen on 192.0.2.1:3240"), "{err}");
+    assert!(
+        err.contains("cannot listen on 192.0.2.1:3240: this computer has no such address"),
+        "{err}"
+    );
     assert!(!err.contains("waiting for a host"), "{err}");
+    // A port in use (a twin running already) is named as such, with what to do.
+    let taken = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
+    let addr = taken.local_addr().expect("address").to_string();
+    let out = output(&["twin", "--addr", &addr, "--seconds", "1"]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(&format!("cannot listen on {addr}: the port is in use")),
+        "{err}"
+    );
 }
 
 #[test]

@@ -48,6 +48,7 @@ fn rails(d: &crate::formats::columns::Data) -> Vec<Option<(f64, f64)>> {
 /// # Errors
 /// A bad argument, an unreadable recording, or one too short for the noise figures.
 pub fn run(a: &Args) -> Outcome {
+    super::folder("out", &a.out)?;
     let d = a.rec.read()?;
     let file = &a.rec.file;
     let results = a.rec.allan(&d)?;

@@ -158,14 +158,8 @@ pub fn profile_pairs(
         return Ok(cli);
     };
     let bad = |why: String| Error::file(path, why);
-    let text = std::fs::read_to_string(path).map_err(|e| Error::file(path, e))?;
-    let value: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
-    let serde_json::Value::Object(map) = value else {
-        return Err(bad(
-            "not a profile: expected an object of key: value, as `config get --json` writes".into(),
-        ));
-    };
+    let text = std::fs::read_to_string(path).map_err(|e| Error::file(path, super::io_words(&e)))?;
+    let map = profile::file_entries(&text).map_err(bad)?;
     let mut out = Vec::with_capacity(map.len() + cli.len());
     for (name, v) in &map {
         let flag = Key::from_name(name).is_some_and(|k| k.kind() == Kind::Flag);
@@ -722,7 +716,12 @@ fn check_args(a: &Args) -> Result<(), Error> {
             positive("seconds", *seconds)?;
             super::writable("out", out)
         }
-        What::Check { rest_s, move_s, .. } => {
+        What::Check {
+            rest_s,
+            move_s,
+            out,
+        } => {
+            super::folder("out", out)?;
             for (name, v, why) in [
                 (
                     "rest-s",

@@ -256,6 +256,7 @@ pub struct Args {
 /// # Errors
 /// A bad argument, an unreadable recording, or segments too short for the times asked.
 pub fn run(a: &Args) -> super::Outcome {
+    super::folder("out", &a.out)?;
     use super::{positive, Error, COLORS};
     use crate::formats::plot;
     if let Some(u) = &a.rec.units {

@@ -151,7 +151,33 @@ pub fn json(value: &impl serde::Serialize) -> Outcome {
 pub fn open(path: &Path) -> Result<std::io::BufReader<std::fs::File>, Error> {
     std::fs::File::open(path)
         .map(std::io::BufReader::new)
-        .map_err(|e| Error::file(path, e))
+        .map_err(|e| Error::file(path, io_words(&e)))
+}
+
+/// Why a file could not be read or written, in words (the OS's own text for the rare kinds).
+pub fn io_words(e: &std::io::Error) -> String {
+    use std::io::ErrorKind as K;
+    match e.kind() {
+        K::NotFound => "no such file".into(),
+        K::PermissionDenied => "permission denied (see the file's owner and mode)".into(),
+        K::IsADirectory => "is a folder; give a file".into(),
+        K::NotADirectory => "a part of the path is a file, not a folder".into(),
+        _ => e.to_string(),
+    }
+}
+
+/// A folder to write into (`--out`), checked before any work: a path that is a file, or
+/// runs through one, is refused here rather than when the run ends.
+pub fn folder(name: &'static str, dir: &Path) -> Result<(), Error> {
+    let dir = resolve(dir);
+    match dir.ancestors().find(|d| d.exists()) {
+        Some(d) if !d.is_dir() => Err(Error::arg(
+            name,
+            dir.display(),
+            format!("{} is a file; give a folder", d.display()),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// A file to be written, checked before any work: not a folder, and its folder exists (a
@@ -205,9 +231,9 @@ pub fn resolve(path: &Path) -> PathBuf {
 /// returns its path.
 pub fn write_out(dir: &Path, name: &str, contents: &str) -> Result<PathBuf, Error> {
     let dir = &resolve(dir);
-    std::fs::create_dir_all(dir).map_err(|e| Error::file(dir, e))?;
+    std::fs::create_dir_all(dir).map_err(|e| Error::file(dir, io_words(&e)))?;
     let path = dir.join(name);
-    std::fs::write(&path, contents).map_err(|e| Error::file(&path, e))?;
+    std::fs::write(&path, contents).map_err(|e| Error::file(&path, io_words(&e)))?;
     Ok(path)
 }
 

@@ -43,6 +43,7 @@ pub struct Args {
 /// # Errors
 /// An unreadable or malformed recording, a bad interval, a configuration the core refuses.
 pub fn run(a: &Args) -> Outcome {
+    super::folder("out", &a.out)?;
     // The arguments first (status 2), before the file is read.
     let fs_arg = a.fs.map(|fs| positive("fs", fs)).transpose()?;
     let every = positive("every", a.every)?;

@@ -1002,6 +1002,7 @@ pub struct Args {
 /// Too few trials; an unwritable `--out`; [`super::Error::Check`] when a row does not come
 /// out as expected (a law rejected or a control accepted).
 pub fn run(a: &Args) -> super::Outcome {
+    super::folder("out", &a.out)?;
     let trials = a.trials.unwrap_or(if a.quick { 1000 } else { 10_000 });
     if trials < 100 {
         return Err(super::Error::arg(

@@ -46,6 +46,7 @@ pub struct Args {
 /// # Errors
 /// An unknown scene, a bad length or interval, an unwritable `--csv`.
 pub fn run(a: &Args) -> Outcome {
+    super::folder("out", &a.out)?;
     let scenes = scene::catalogue();
     let Some(sc) = scenes.iter().find(|s| s.name == a.scene) else {
         let names: Vec<&str> = scenes.iter().map(|s| s.name).collect();

@@ -863,6 +863,7 @@ pub struct Args {
 /// A bad argument; the QEMU harness failing to build or run; [`super::Error::Check`] when the
 /// target's checksums differ from the host's.
 pub fn run(a: &Args) -> super::Outcome {
+    super::folder("out", &a.out)?;
     if a.trials == 0 {
         return Err(super::Error::arg("trials", 0, "at least one trial"));
     }

@@ -98,6 +98,48 @@ pub fn from_text(pairs: &[(String, String)]) -> Result<Vec<(Key, f64)>, String> 
         .collect()
 }
 
+/// A profile file's entries (`config get --json` writes it, `config set --file` reads it), in
+/// the file's order, or why not: not JSON, not an object, or a key given twice (a JSON
+/// object's reader would keep the last silently).
+pub fn file_entries(text: &str) -> Result<Vec<(String, serde_json::Value)>, String> {
+    let Entries(entries) = serde_json::from_str(text).map_err(|e| match e.classify() {
+        serde_json::error::Category::Data => format!("not a profile: {e}"),
+        _ => format!("not JSON: {e}"),
+    })?;
+    for (i, (name, _)) in entries.iter().enumerate() {
+        if entries[..i].iter().any(|(n, _)| n == name) {
+            return Err(format!("{name} is given twice: which value is it?"));
+        }
+    }
+    Ok(entries)
+}
+
+/// A JSON object's entries with duplicates kept.
+struct Entries(Vec<(String, serde_json::Value)>);
+
+impl<'de> serde::Deserialize<'de> for Entries {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = Entries;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an object of key: value, as `config get --json` writes")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut m: A,
+            ) -> Result<Entries, A::Error> {
+                let mut v = Vec::new();
+                while let Some(entry) = m.next_entry()? {
+                    v.push(entry);
+                }
+                Ok(Entries(v))
+            }
+        }
+        d.deserialize_map(Visit)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -177,7 +177,7 @@ pub struct Settings {
 #[derive(Debug, thiserror::Error)]
 pub enum TwinError {
     /// The USB/IP port could not be bound.
-    #[error("cannot listen on {addr}: {source}")]
+    #[error("cannot listen on {addr}: {}", listen_words(.source))]
     Listen {
         /// The address.
         addr: SocketAddr,
@@ -695,6 +695,23 @@ fn summary(
             .filter(|(ep, p)| *ep == imu_app::mouse::MOUSE_EP_IN & 0x7F && p.len() >= 3)
             .map(|(_, p)| [i64::from(p[1] as i8), i64::from(p[2] as i8)])
             .collect(),
+    }
+}
+
+/// Why a port could not be bound, in words a user can act on (the OS's own text otherwise).
+fn listen_words(e: &std::io::Error) -> String {
+    use std::io::ErrorKind as K;
+    match e.kind() {
+        K::AddrInUse => "the port is in use (is a twin running already? stop it, or give \
+                         --addr another port)"
+            .into(),
+        K::AddrNotAvailable => "this computer has no such address (127.0.0.1 serves this \
+                                computer, 0.0.0.0 every network)"
+            .into(),
+        K::PermissionDenied => {
+            "permission denied (ports below 1024 need root; 3240 does not)".into()
+        }
+        _ => e.to_string(),
     }
 }
 

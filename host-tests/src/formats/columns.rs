@@ -394,7 +394,12 @@ mod tests {
         fails("ax,ay\n1,2\n", &o, 0, "no sampling rate");
         fails("fs,-1\nax\n1\n", &o, 1, "must be a number > 0");
         // docs/lab.md: two rates, or two profiles, are an error, as replay reads them.
-        fails("fs,100\nfs,200\nax\n1\n", &o, 2, "a second `fs` line says 200 Hz");
+        fails(
+            "fs,100\nfs,200\nax\n1\n",
+            &o,
+            2,
+            "a second `fs` line says 200 Hz",
+        );
         assert!(read("fs,100\nfs,100\nax\n1\n".as_bytes(), &o).is_ok());
         fails(
             "fs,100\nprofile,fs_hz=100\nprofile,fs_hz=100\nax\n1\n",

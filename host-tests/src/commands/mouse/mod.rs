@@ -391,6 +391,7 @@ const NOISE_UG_MAX: f64 = 1000.0;
 /// # Errors
 /// A bad argument; an unwritable `--out`.
 pub fn run(a: &Args) -> super::Outcome {
+    super::folder("out", &a.out)?;
     if a.strokes == 0 || a.strokes > 10_000 {
         return Err(super::Error::arg("strokes", a.strokes, "1..=10000"));
     }
