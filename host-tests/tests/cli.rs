@@ -1061,3 +1061,27 @@ fn a_replay_names_the_flag_the_user_gave() {
     );
     let _ = std::fs::remove_file(&file);
 }
+
+#[test]
+fn a_trace_describes_its_trial_in_words_and_units() {
+    let out = output(&["mouse", "--trace", "drags:1"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let t = text(&out.stdout);
+    let lines: Vec<&str> = t.lines().collect();
+    assert!(lines[0].starts_with("a trial of "), "{t}");
+    assert!(
+        lines[1].contains("a drag: up over") && lines[1].contains("mm/s"),
+        "{t}"
+    );
+    assert!(lines.iter().any(|l| l.starts_with("judged: ")), "{t}");
+    assert!(
+        lines
+            .iter()
+            .rev()
+            .find(|l| !l.is_empty())
+            .is_some_and(|l| l.starts_with("end: cursor [")),
+        "{t}"
+    );
+    // No Rust debug text: no struct braces, no Some(..).
+    assert!(!t.contains('{') && !t.contains("Some("), "{t}");
+}

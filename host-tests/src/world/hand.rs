@@ -293,6 +293,106 @@ pub enum Motion {
     },
 }
 
+impl std::fmt::Display for Motion {
+    /// One line a person reads: the motion's start, its sizes in mm, mm/s, ms, degrees and g.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let deg = |r: f64| r.to_degrees();
+        let tilt = |t: [f64; 2]| format!("({:.2}, {:.2}) deg", deg(t[0]), deg(t[1]));
+        match *self {
+            Motion::Stroke { t0, dur, d, dir } => write!(
+                f,
+                "at {t0:.3} s a stroke of {:.1} mm over {:.0} ms, direction {:.0} deg",
+                d * 1e3,
+                dur * 1e3,
+                deg(dir)
+            ),
+            Motion::Drag {
+                t0,
+                ramp_up,
+                glide,
+                ramp_down,
+                v,
+                dir,
+            } => write!(
+                f,
+                "at {t0:.3} s a drag: up over {:.0} ms, a glide of {glide:.2} s at {:.1} mm/s, \
+                 down over {:.0} ms, direction {:.0} deg",
+                ramp_up * 1e3,
+                v * 1e3,
+                ramp_down * 1e3,
+                deg(dir)
+            ),
+            Motion::Lift {
+                t0,
+                h,
+                rise,
+                air,
+                fall,
+                from,
+                to,
+                in_air,
+            } => write!(
+                f,
+                "at {t0:.3} s a lift of {:.1} mm: up over {:.0} ms, {:.0} ms in the air, down \
+                 over {:.0} ms; tilt {} to {} {}",
+                h * 1e3,
+                rise * 1e3,
+                air * 1e3,
+                fall * 1e3,
+                tilt(from),
+                tilt(to),
+                if in_air { "in the air" } else { "as it lands" }
+            ),
+            Motion::Tilt { t0, dur, from, to } => write!(
+                f,
+                "at {t0:.3} s the pad tilts from {} to {} over {:.0} ms",
+                tilt(from),
+                tilt(to),
+                dur * 1e3
+            ),
+            Motion::Knock {
+                t0,
+                peak,
+                f: hz,
+                flex,
+                share,
+                ..
+            } => write!(
+                f,
+                "at {t0:.3} s a knock of {:.2} g ringing at {hz:.0} Hz, the desk flexing \
+                 {:.0} um, {:.0} % of it horizontal",
+                peak / G,
+                flex * 1e6,
+                share * 100.0
+            ),
+            Motion::Figure {
+                t0,
+                dur,
+                eight,
+                r,
+                turns,
+            } => write!(
+                f,
+                "at {t0:.3} s {turns} turn(s) of a {} of radius {:.1} mm over {dur:.2} s",
+                if eight { "figure eight" } else { "circle" },
+                r * 1e3
+            ),
+            Motion::Vibration {
+                t0,
+                f: hz,
+                amp,
+                all,
+                ..
+            } => write!(
+                f,
+                "from {t0:.3} s a machine's vibration of {:.1} mg at {hz:.0} Hz on {}",
+                amp / G * 1e3,
+                if all { "every axis" } else { "Z" }
+            ),
+        }
+    }
+}
+
 /// A knock's ring: displacement `A (1 - cos w t) e^(-t/tau)` with `A = peak / w^2`, which
 /// starts and ends at rest; its acceleration at `t`.
 fn ring_accel(t: f64, peak: f64, f: f64, tau: f64) -> f64 {

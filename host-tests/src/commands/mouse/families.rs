@@ -227,6 +227,56 @@ pub enum Check {
     },
 }
 
+/// A trial in words, a line per motion and button edge, then how it is judged.
+fn describe(case: &Case) -> String {
+    let sc = &case.scenario;
+    let mut out = format!("a trial of {:.2} s:\n", sc.seconds);
+    for m in &sc.motions {
+        out += &format!("  {m}\n");
+    }
+    for e in &sc.edges {
+        out += &format!("  at {e:.3} s a button edge\n");
+    }
+    out += &match &case.check {
+        Check::Displacement {
+            from,
+            truth,
+            duration,
+            t_rest,
+            share,
+            back,
+        } => format!(
+            "judged: the cursor from {from:.3} s on, against [{:.2}, {:.2}] mm (right, down) \
+             over {duration:.2} s, within {:.0} % or 3 floors{}{}\n",
+            truth[0] * 1e3,
+            truth[1] * 1e3,
+            share * 100.0,
+            t_rest.map_or(String::new(), |r| format!(
+                " (the bias floor of a zero averaged over {r:.1} s)"
+            )),
+            if back.is_some() {
+                "; its retreat against the direction at most 2 mm"
+            } else {
+                ""
+            }
+        ),
+        Check::Still { intervals, allowed } => format!(
+            "judged: at most {:.2} mm of cursor travel in each of {}\n",
+            allowed * 1e3,
+            intervals
+                .iter()
+                .map(|(a, b)| format!("{a:.2}-{b:.2} s"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        Check::Tilt { rest } => format!(
+            "judged: the travel of a pad tilt whose pad rests from {rest:.3} s, stopped within \
+             0.5 s of it\n"
+        ),
+    };
+    out
+}
+
 /// A trial: what happens and how it is judged.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Case {
@@ -908,7 +958,7 @@ pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: u
     };
     let mut rng = kind.rng(seed, k);
     let case = kind.case(&mut rng, averaging_s(drift));
-    let mut out = format!("{case:?}\n");
+    let mut out = describe(&case);
     let mut t = dev.tracker;
     let mut sensor = dev.sensor.clone();
     let mut rng = noise::rng(rng_seed(&mut rng));
@@ -959,13 +1009,13 @@ pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: u
             last = now;
         }
     }
+    let truth = case.scenario.displacement();
     out += &format!(
-        "end: cursor [{:.2}, {:.2}] mm, true displacement {:?} mm\n",
+        "end: cursor [{:.2}, {:.2}] mm, true displacement [{:.2}, {:.2}] mm\n",
         pos[0] as f64 * m_per_count * 1e3,
         pos[1] as f64 * m_per_count * 1e3,
-        case.scenario
-            .displacement()
-            .map(|d| (d * 1e3 * 100.0).round() / 100.0)
+        truth[0] * 1e3,
+        truth[1] * 1e3,
     );
     out
 }
