@@ -880,6 +880,30 @@ fn allan_says_when_an_axis_is_railed_and_when_its_bias_is_only_a_bound() {
         said.contains("z: 90.0 % of samples at the rail code 4095: clipped"),
         "{said}"
     );
+    // Every axis constant: the report, no plot, and a failed run (status 1).
+    let mut csv =
+        String::from("fs,3000\nprofile,fs_hz=3000,m_s2_per_lsb=0.0239,adc_bits=12\nn,x,y,z\n");
+    for i in 0..3000u32 {
+        csv += &format!("{i},0,4095,2048\n");
+    }
+    std::fs::write(&file, csv).expect("file");
+    let dir = "target/lab/cli-allan-dead";
+    let out = lab()
+        .args(["allan", "--out", dir])
+        .arg(&file)
+        .output()
+        .expect("runs");
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("z: constant at 2048 for all 3000 samples"));
+    assert!(
+        text(&out.stderr).starts_with("error: every axis is constant: no noise to measure"),
+        "{}",
+        text(&out.stderr)
+    );
+    let plot = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(dir);
+    assert!(!plot.join("allan.svg").exists(), "no empty chart");
     let _ = std::fs::remove_file(&file);
     // The real recording: x's minimum is at its longest tau, so its bias is a bound.
     let out = output(&[

@@ -159,6 +159,20 @@ pub fn run(a: &Args) -> Outcome {
             }),
         );
     }
+    if p.points.is_empty() {
+        // Nothing to draw, and nothing measured: a run that failed, not an empty chart.
+        let report = if a.json {
+            serde_json::to_string_pretty(&serde_json::json!({ "axes": axes, "fs": d.fs }))?
+        } else {
+            text
+        };
+        return Err(super::Error::Check {
+            report,
+            why: "every axis is constant: no noise to measure and no plot (is the sensor \
+                  powered, and are these its columns?)"
+                .into(),
+        });
+    }
     let path = super::write_out(&a.out, "allan.svg", &p.to_svg())?;
     if a.json {
         return super::json(&serde_json::json!({ "axes": axes, "fs": d.fs }));
