@@ -359,14 +359,17 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
     // The twin is listed with its serial, and chosen by it.
     let listed = device(&["list"]);
     assert_eq!(listed.status.code(), Some(0), "{}", text(&listed.stderr));
+    // Its release read from its device descriptor (the app's bcdDevice, 0x0100).
+    assert_eq!(imu_app::identity::RELEASE_BCD, 0x0100);
     assert!(
-        text(&listed.stdout).starts_with("CLITWIN7  imu-mouse accelerometer mouse"),
+        text(&listed.stdout).starts_with("CLITWIN7  imu-mouse accelerometer mouse  1.00  usbip://"),
         "{}",
         text(&listed.stdout)
     );
     let v: serde_json::Value =
         serde_json::from_slice(&device(&["--json", "list"]).stdout).expect("JSON");
     assert_eq!(v[0]["serial"], "CLITWIN7");
+    assert_eq!(v[0]["release"], "1.00");
     assert_eq!(
         device(&["--serial", "CLITWIN7", "info"]).status.code(),
         Some(0)
@@ -900,9 +903,7 @@ fn allan_says_when_an_axis_is_railed_and_when_its_bias_is_only_a_bound() {
         "{}",
         text(&out.stderr)
     );
-    let plot = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(dir);
+    let plot = Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(dir);
     assert!(!plot.join("allan.svg").exists(), "no empty chart");
     let _ = std::fs::remove_file(&file);
     // The real recording: x's minimum is at its longest tau, so its bias is a bound.

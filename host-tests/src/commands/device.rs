@@ -786,10 +786,11 @@ fn list(a: &Args, timeout: Duration) -> Outcome {
             let mut host = UsbIpHost::connect(addr, BUSID, timeout)
                 .map_err(|e| unreachable(addr, timeout, e))?;
             let serial = host.serial().map_err(|e| Error::Run(e.to_string()))?;
+            let release = host.release().map_err(|e| Error::Run(e.to_string()))?;
             vec![Found {
                 serial: serial.unwrap_or_default(),
                 product: imu_app::identity::PRODUCT.into(),
-                release: String::new(),
+                release: crate::device::client::release_text(release),
                 path: format!("usbip://{addr}/{BUSID}"),
             }]
         }

@@ -415,11 +415,7 @@ impl HidLink {
             .map(|d| Found {
                 serial: d.serial_number().unwrap_or("").to_string(),
                 product: d.product_string().unwrap_or("").to_string(),
-                release: format!(
-                    "{}.{:02x}",
-                    d.release_number() >> 8,
-                    d.release_number() & 0xFF
-                ),
+                release: release_text(d.release_number()),
                 path: d.path().to_string_lossy().into_owned(),
             })
             .collect();
@@ -462,6 +458,11 @@ impl Link for HidLink {
             Err(e) => Err(ClientError::Link(e.to_string())),
         }
     }
+}
+
+/// A release as `bcdDevice` gives it (binary-coded decimal, `0x0100`), as text (`1.00`).
+pub fn release_text(bcd: u16) -> String {
+    format!("{:x}.{:02x}", bcd >> 8, bcd & 0xFF)
 }
 
 #[cfg(test)]

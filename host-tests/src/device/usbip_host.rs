@@ -210,7 +210,7 @@ impl UsbIpHost {
     /// # Errors
     /// A failed control request, or a descriptor that is not one.
     pub fn serial(&mut self) -> Result<Option<String>, UsbIpError> {
-        let device = self.control([0x80, 0x06, 0, 1, 0, 0, 18, 0], &[], 18)?;
+        let device = self.device_descriptor()?;
         let Some(&index) = device.get(16).filter(|&&i| i != 0) else {
             return Ok(None);
         };
@@ -223,6 +223,22 @@ impl UsbIpHost {
             .map(|c| u16::from_le_bytes([c[0], c[1]]))
             .collect();
         Ok(Some(String::from_utf16_lossy(&units)))
+    }
+
+    /// The device's release, its device descriptor's `bcdDevice` (`0x0100` for 1.00).
+    ///
+    /// # Errors
+    /// A failed control request, or a descriptor too short to hold it.
+    pub fn release(&mut self) -> Result<u16, UsbIpError> {
+        match self.device_descriptor()?.get(12..14) {
+            Some(b) => Ok(u16::from_le_bytes([b[0], b[1]])),
+            None => proto("the device descriptor is too short for bcdDevice"),
+        }
+    }
+
+    /// The device descriptor (18 bytes).
+    fn device_descriptor(&mut self) -> Result<Vec<u8>, UsbIpError> {
+        self.control([0x80, 0x06, 0, 1, 0, 0, 18, 0], &[], 18)
     }
 
     /// The configuration interface's `(IN, OUT)` endpoint numbers.
