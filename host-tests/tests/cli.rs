@@ -637,6 +637,35 @@ fn drift_says_why_there_is_no_z_score_and_refuses_a_time_under_a_sample() {
     // The rest recording's z column never changes: no noise the ADC resolves.
     let file = rest_recording("drift");
     let f = file.to_str().expect("utf-8 path");
+    // With no --t: the times the file (2 s) holds ten segments of, 0.1 s alone here.
+    let out = output(&[
+        "drift",
+        f,
+        "--columns",
+        "x,y",
+        "--scale",
+        "0.01",
+        "--calibrate-s",
+        "0.05",
+        "--out",
+        "target/lab/cli-drift",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let rows: Vec<Vec<String>> = text(&out.stdout)
+        .lines()
+        .filter(|l| l.starts_with("x "))
+        .map(|l| l.split_whitespace().map(String::from).collect())
+        .collect();
+    assert_eq!(rows.len(), 1, "{rows:?}");
+    assert_eq!((rows[0][1].as_str(), rows[0][2].as_str()), ("0.1", "13"));
+    // With no --calibrate-s either: the device's 1 s window, which the file holds once.
+    let out = output(&["drift", f, "--columns", "x,y", "--scale", "0.01"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("--calibrate-s 1 and --t up to 0.1: a segment is 1.1 s"),
+        "{}",
+        text(&out.stderr)
+    );
     let common = [
         "drift",
         f,

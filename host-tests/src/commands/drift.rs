@@ -232,16 +232,13 @@ pub struct Args {
     /// The recording.
     #[command(flatten)]
     pub rec: super::Recording,
-    /// Calibration window at the start of each segment [s].
-    #[arg(long, allow_negative_numbers = true)]
+    /// Calibration window at the start of each segment [s], `0 < TC <= 60` (default: the
+    /// device's own window).
+    #[arg(long, allow_negative_numbers = true, default_value_t = imu_core::Config::default().calibration_s)]
     pub calibrate_s: f64,
-    /// Integration times [s], comma separated.
-    #[arg(
-        long = "t",
-        allow_negative_numbers = true,
-        value_delimiter = ',',
-        required = true
-    )]
+    /// Integration times [s], comma separated, each at most a day (default: the 1-2-5
+    /// series from 0.1 s to the longest T of which the recording holds 10 segments).
+    #[arg(long = "t", allow_negative_numbers = true, value_delimiter = ',')]
     pub t: Vec<f64>,
     /// Directory for the plot.
     #[arg(long, default_value = "target/lab/drift")]
@@ -249,6 +246,23 @@ pub struct Args {
     /// Print JSON instead of the table.
     #[arg(long)]
     pub json: bool,
+}
+
+/// The integration times [s] a recording of `seconds` is measured at when `--t` is not
+/// given: the 1-2-5 series from 0.1 s up to the longest T whose segments (`calibrate_s + T`)
+/// it holds [`FEW_SEGMENTS`] of, so each row's interval is narrow enough to judge a law by.
+/// A recording too short for any gets 0.1 s alone (and the experiment says why it cannot run).
+pub fn default_ts(seconds: f64, calibrate_s: f64) -> Vec<f64> {
+    let fits = |t: f64| seconds / (calibrate_s + t) >= FEW_SEGMENTS as f64;
+    let ts: Vec<f64> = (-1..=4)
+        .flat_map(|e| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(e)))
+        .take_while(|&t| fits(t))
+        .collect();
+    if ts.is_empty() {
+        vec![0.1]
+    } else {
+        ts
+    }
 }
 
 /// Runs `cargo lab drift`.
@@ -298,7 +312,13 @@ pub fn run(a: &Args) -> super::Outcome {
         ));
     };
     let figs: Vec<_> = a.rec.allan(&d)?.into_iter().map(|(_, f)| f).collect();
-    let rows = experiment(&d.names, &d.raw, d.fs, scale, a.calibrate_s, &a.t, &figs)
+    let ts = if a.t.is_empty() {
+        let n = d.raw.first().map_or(0, Vec::len);
+        default_ts(n as f64 / d.fs, a.calibrate_s)
+    } else {
+        a.t.clone()
+    };
+    let rows = experiment(&d.names, &d.raw, d.fs, scale, a.calibrate_s, &ts, &figs)
         .map_err(Error::Input)?;
     let mut p = plot::Plot {
         title: format!(
@@ -332,4 +352,24 @@ pub fn run(a: &Args) -> super::Outcome {
         return super::json(&serde_json::json!({ "rows": rows, "calibrate_s": a.calibrate_s }));
     }
     Ok(format!("{}plot: {}", table(&rows), path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_times_stop_where_fewer_than_ten_segments_fit() {
+        // 441 s after 10 s windows: 20 s gives 14 segments, 50 s would give 7.
+        let ts = default_ts(441.0, 10.0);
+        assert_eq!(ts, [0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0]);
+        for &t in &ts {
+            assert!(441.0 / (10.0 + t) >= FEW_SEGMENTS as f64);
+        }
+        // Too short for ten: the shortest alone, for the experiment to refuse or run.
+        assert_eq!(default_ts(0.5, 1.0), [0.1]);
+        // The series' top is 50000 s (under T_MAX_S).
+        assert_eq!(default_ts(1e9, 1.0).last(), Some(&50_000.0));
+        assert!(50_000.0 <= T_MAX_S);
+    }
 }
