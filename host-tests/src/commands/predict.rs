@@ -28,7 +28,8 @@ pub struct Args {
     /// One-sided noise density into a single-pole filter [m/s^2/sqrt(Hz)]; needs --fc.
     #[arg(long, allow_negative_numbers = true)]
     pub sigma_c: Option<f64>,
-    /// The single-pole filter's cut-off [Hz]; needs --sigma-c.
+    /// The single-pole filter's cut-off [Hz], `0 < fc <= fs / 2` (the paper's analog model
+    /// takes fs / 2; the device's own filter, `lowpass_fc_hz`, stays below it); needs --sigma-c.
     #[arg(long, allow_negative_numbers = true)]
     pub fc: Option<f64>,
     /// Constant acceleration bias [m/s^2].

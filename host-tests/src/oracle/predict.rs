@@ -29,13 +29,13 @@ pub struct Inputs {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum PredictError {
     /// `--fs` not finite or not positive.
-    #[error("--fs {0}: the sampling rate must be a finite number > 0 Hz")]
+    #[error("--fs {}: the sampling rate must be a finite number > 0 Hz", short(*.0))]
     Fs(f64),
     /// No `--t` given.
     #[error("--t: give at least one duration in seconds")]
     NoDuration,
     /// A `--t` not finite or not positive.
-    #[error("--t {0}: a duration must be a finite number > 0 s")]
+    #[error("--t {}: a duration must be a finite number > 0 s", short(*.0))]
     Duration(f64),
     /// `t * fs` is not a whole number.
     #[error("--t {} at --fs {}: N = t * fs = {} is not a whole number of samples", short(*t), short(*fs), short(*n))]
@@ -58,7 +58,7 @@ pub enum PredictError {
         n: f64,
     },
     /// A noise level not finite or negative.
-    #[error("--{name} {value}: must be a finite number >= 0")]
+    #[error("--{name} {}: must be a finite number >= 0", short(*.value))]
     Noise {
         /// The flag's name.
         name: &'static str,
@@ -66,13 +66,18 @@ pub enum PredictError {
         value: f64,
     },
     /// `--bias` not finite.
-    #[error("--bias {0}: must be a finite number (m/s^2)")]
+    #[error("--bias {}: must be a finite number (m/s^2)", short(*.0))]
     Bias(f64),
     /// `--sigma-c` without `--fc`, or the other way round.
     #[error("--sigma-c and --fc go together: the density is the input of the filter at fc")]
     FilterPair,
     /// `--fc` outside `(0, fs/2]`.
-    #[error("--fc {fc}: the cut-off must satisfy 0 < fc <= fs / 2 = {half} Hz")]
+    #[error(
+        "--fc {}: the cut-off must satisfy 0 < fc <= fs / 2 = {} Hz (the paper's analog \
+         single-pole model takes fs / 2; the device's filter stays below it)",
+        short(*.fc),
+        short(*.half)
+    )]
     Cutoff {
         /// The rejected cut-off [Hz].
         fc: f64,
