@@ -357,7 +357,8 @@ impl Shown {
                 } else {
                     libm::floor(v * scale + 1e-6)
                 };
-                r / scale
+                // `+ 0.0` makes the ceiling of a tiny negative, -0, the 0 a person types.
+                r / scale + 0.0
             }
             None => v,
         }
@@ -366,7 +367,8 @@ impl Shown {
 
 impl fmt::Display for Shown {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let v = self.0;
+        // -0 is shown as 0.
+        let v = self.0 + 0.0;
         let Some(digits) = Self::decimals(v) else {
             return write!(f, "{v:e}");
         };

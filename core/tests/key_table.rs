@@ -254,12 +254,17 @@ fn ranges_and_numbers_read_as_a_person_writes_them() {
     assert_eq!(Shown::inward(0.5, false), 0.5);
     assert_eq!(Shown::inward(1e9, false), 1e9);
     assert_eq!(Shown::inward(0.0, true), 0.0);
-    let r = Range {
-        min: 0.2,
+    // 0 rounded up is the 0 a person types, not -0 (`0..=2`, not `-0..=2`).
+    assert!(Shown::inward(0.0, true).is_sign_positive());
+    assert_eq!(show(-0.0), "0");
+    let closed = |min, max| Range {
+        min,
         min_excluded: false,
-        max: 2.4,
+        max,
         max_excluded: false,
     };
+    assert_eq!(closed(0.0, 2.0).to_string(), "0..=2");
+    let r = closed(0.2, 2.4);
     assert_eq!(r.to_string(), "0.2..=2.4");
     let open = Range {
         max_excluded: true,
