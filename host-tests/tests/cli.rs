@@ -407,11 +407,11 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
         ),
         (
             "m_s2_per_lsb=1e30",
-            "m_s2_per_lsb takes 0.00478841..=2.3942 m/s^2",
+            "m_s2_per_lsb takes 0.00478841..=2.3942 m/s^2 at adc_bits=12:",
         ),
         (
             "calibration_s=1000",
-            "calibration_s takes 0.00533334..=60 s",
+            "calibration_s takes 0.00533334..=60 s at fs_hz=3000:",
         ),
         ("adc_bits=16", "this board's ADC has 12 bits"),
         ("lowpass_fc_hz=2000", "0.003 to below 1500 Hz, or off"),
@@ -430,8 +430,40 @@ fn device_commands_against_a_twin_answer_json_and_name_a_refused_key() {
             "{pair}: {err}"
         );
     }
+    // A range moved by a rate given in the same set says so; so does a value already on the
+    // device that the new rate no longer fits.
+    for (pairs, says) in [
+        (
+            &["fs_hz=100", "calibration_s=0.05"][..],
+            "calibration_s=0.05 refused by the device: calibration_s takes 0.16..=60 s at \
+             fs_hz=100 (given in this set)",
+        ),
+        (&["calibration_s=0.05"][..], ""),
+        (
+            &["fs_hz=100"][..],
+            "refused by the device: the device's calibration_s=0.05 would no longer fit; \
+             calibration_s takes 0.16..=60 s at fs_hz=100 (given in this set)",
+        ),
+        (&["calibration_s=1"][..], ""),
+    ] {
+        let out = device(&[&["config", "set"][..], pairs].concat());
+        let err = text(&out.stderr);
+        if says.is_empty() {
+            assert_eq!(out.status.code(), Some(0), "{pairs:?}: {err}");
+        } else {
+            assert_eq!(out.status.code(), Some(2), "{pairs:?}: {err}");
+            assert!(
+                err.starts_with(&format!("error: config set: {says}")),
+                "{err}"
+            );
+        }
+    }
     // The table: every key with its value, unit, what it takes and what it does.
     let table = text(&device(&["config", "get"]).stdout);
+    assert!(
+        !table.contains(" -0.."),
+        "a range from 0 reads 0..: {table}"
+    );
     assert!(
         table.lines().any(|l| l.starts_with("counts_per_inch ")
             && l.contains("counts/inch")

@@ -366,9 +366,59 @@ fn refused<L: Link>(c: &mut Client<L>, pairs: &[(Key, f64)], code: ErrorCode) ->
         (ErrorCode::Invalid(_), Key::XAxis | Key::YAxis) => {
             "x_axis and y_axis must be different sensor axes (0 X, 1 Y, 2 Z)".into()
         }
-        _ => format!("{key} takes {} here: {}", takes(&p, key, true), key.about()),
+        _ => format!(
+            "{}{key} takes {}{}: {}",
+            if given.is_empty() {
+                format!(
+                    "the device's {key}={} would no longer fit; ",
+                    show(key, p.get(key))
+                )
+            } else {
+                String::new()
+            },
+            takes(&p, key, true),
+            context(&p, key, pairs),
+            key.about()
+        ),
     };
     Error::Input(format!("config set:{given} refused by the device: {why}"))
+}
+
+/// The settings `key`'s range follows in profile `p`, as ` at fs_hz=100 (given in this set)`:
+/// each of fs_hz, adc_bits and m_s2_per_lsb whose change would move the range (found by
+/// asking the key table at another value), marked where `pairs` changes it in the same set.
+fn context(p: &Profile, key: Key, pairs: &[(Key, f64)]) -> String {
+    let range = |p: &Profile| imu_app::device::range(p, key).map(|r| r.to_string());
+    let moves = |on: Key| {
+        let now = p.get(on);
+        // Values far from the profile's (those the key table takes are tried).
+        let others = match on {
+            Key::FsHz => [100.0, 20_000.0],
+            Key::AdcBits => [2.0, 16.0],
+            _ => [now / 2.0, now * 2.0],
+        };
+        others.into_iter().any(|v| {
+            let mut q = *p;
+            q.set(on, v).is_ok() && range(&q) != range(p)
+        })
+    };
+    let deps: Vec<String> = [Key::FsHz, Key::AdcBits, Key::MS2PerLsb]
+        .into_iter()
+        .filter(|&on| on != key && moves(on))
+        .map(|on| {
+            let given = if pairs.iter().any(|(k, _)| *k == on) {
+                " (given in this set)"
+            } else {
+                ""
+            };
+            format!("{on}={}{given}", show(on, p.get(on)))
+        })
+        .collect();
+    if deps.is_empty() {
+        " here".into()
+    } else {
+        format!(" at {}", deps.join(", "))
+    }
 }
 
 /// Set by Ctrl-C during a recording.
