@@ -1065,18 +1065,20 @@ fn a_repeating_twin_serves_past_the_end_of_its_scene() {
     twin.wait().expect("reaped");
 }
 
+/// `cargo lab device --twin ADDR [--json] check --out DIR`.
+fn check_on(addr: &str, json: bool, dir: &str) -> Output {
+    let mut args = vec!["device", "--twin", addr];
+    if json {
+        args.push("--json");
+    }
+    args.extend(["check", "--out", dir]);
+    output(&args)
+}
+
 #[test]
 fn a_device_check_of_a_good_board_says_so_and_finds_its_mapping() {
     let (mut twin, addr) = start_twin(&["--scene", "check"]);
-    let out = output(&[
-        "device",
-        "--twin",
-        &addr,
-        "--json",
-        "check",
-        "--out",
-        "target/lab/cli-check",
-    ]);
+    let out = check_on(&addr, true, "target/lab/cli-check");
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON alone");
     assert_eq!(v["verdict"]["problems"], serde_json::json!([]));
@@ -1098,14 +1100,7 @@ fn a_device_check_of_a_board_mapped_wrong_says_what_to_set() {
     let (mut twin, addr) = start_twin(&["--scene", "check"]);
     let set = output(&["device", "--twin", &addr, "config", "set", "x_sign=-1"]);
     assert_eq!(set.status.code(), Some(0), "{}", text(&set.stderr));
-    let out = output(&[
-        "device",
-        "--twin",
-        &addr,
-        "check",
-        "--out",
-        "target/lab/cli-check-wrong",
-    ]);
+    let out = check_on(&addr, false, "target/lab/cli-check-wrong");
     let said = text(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{said}{}", text(&out.stderr));
     assert!(said.contains("moved right: sensor +X"), "{said}");
@@ -1115,6 +1110,41 @@ fn a_device_check_of_a_board_mapped_wrong_says_what_to_set() {
     );
     assert!(said.contains("verdict: 1 problem(s) to fix"), "{said}");
     assert!(text(&out.stderr).contains("the check found 1 problem(s)"));
+    twin.kill().expect("the twin stops");
+    twin.wait().expect("reaped");
+}
+
+#[test]
+fn a_device_check_whose_rest_holds_a_stroke_says_so_first() {
+    // The check scene runs from the first host on, over and over: 4 s recorded first put the
+    // check's rest step over 4.x-8.x s of it, across the move right at 6.5-7.0 s.
+    let (mut twin, addr) = start_twin(&["--scene", "check", "--repeat"]);
+    let file = std::env::temp_dir().join(format!("imu-cli-{}-early.csv", std::process::id()));
+    let rec = lab()
+        .args([
+            "device",
+            "--twin",
+            &addr,
+            "record",
+            "--seconds",
+            "4",
+            "--out",
+        ])
+        .arg(&file)
+        .output()
+        .expect("records");
+    assert_eq!(rec.status.code(), Some(0), "{}", text(&rec.stderr));
+    let out = check_on(&addr, true, "target/lab/cli-check-moved");
+    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("{e}: {}{}", text(&out.stdout), text(&out.stderr)));
+    let first = v["verdict"]["problems"][0].as_str().unwrap_or_default();
+    assert!(
+        first.starts_with("the mouse moved during the rest step (X went"),
+        "{v}"
+    );
+    assert_eq!(v["rest"]["moved"][0], 0, "{v}");
+    let _ = std::fs::remove_file(&file);
     twin.kill().expect("the twin stops");
     twin.wait().expect("reaped");
 }

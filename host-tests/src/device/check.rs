@@ -15,6 +15,12 @@
 //! - the gravity axis is the one reading 1 g within [`GRAVITY_TOLERANCE_G`] (a level desk,
 //!   the scale right); none is a wrong scale or a board on its edge.
 //!
+//! A rest that moved says nothing of the noise or the zero, so the rest step is tested first:
+//! its 10 ms means must stay within [`MOTION_SDS`] sd of their median on every axis, the sd
+//! taken from the median of successive differences (`median |m[i+1] - m[i]| / (0.6745
+//! sqrt 2)` for Gaussian means), which a stroke filling under half the window does not move.
+//! The same sd sizes the stroke threshold below, so a rest that moved cannot raise it.
+//!
 //! The noise density is read from the Allan deviation at [`ND_TAU_S`], where the
 //! sensor's filtered noise is white (a few seconds at rest are too short for the full fit
 //! of `cargo lab allan`). A stroke is found on the 10 ms means of each axis less
@@ -79,8 +85,12 @@ pub struct AtRest {
     pub axes: Vec<AxisAtRest>,
     /// The sensor axis reading 1 g (within [`GRAVITY_TOLERANCE_G`]) and its sign, if one does.
     pub gravity: Option<(usize, f64)>,
-    /// Sd of a 10 ms mean at rest, per axis [m/s^2].
+    /// Sd of a 10 ms mean at rest, per axis [m/s^2], from successive differences (robust
+    /// to a short motion in the window).
     pub bin_sd_m_s2: Vec<f64>,
+    /// The axis whose 10 ms means went furthest past [`MOTION_SDS`] sd of their median, and
+    /// how many sd: the board moved while it should have been still.
+    pub moved: Option<(usize, f64)>,
 }
 
 /// A stroke found in a recording.
@@ -134,20 +144,40 @@ pub fn at_rest(codes: &[[u16; 3]], fs: f64, m_s2_per_lsb: f64, bits: u8) -> AtRe
         })
         .map(|(k, a)| (k, a.reading_g.signum()));
     let bin = ((BIN_S * fs).round() as usize).max(1);
-    let bin_sd_m_s2 = (0..3)
-        .map(|k| {
-            let means = bin_means(codes, k, bin);
-            let m = means.iter().sum::<f64>() / means.len().max(1) as f64;
-            let var =
-                means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / means.len().max(1) as f64;
-            var.sqrt() * m_s2_per_lsb
+    let means: Vec<Vec<f64>> = (0..3).map(|k| bin_means(codes, k, bin)).collect();
+    // A 10 ms mean resolves a tenth of a step at worst (10 samples at 1 kHz): the floor for an
+    // axis whose noise is under a step, so a lone step is not taken for motion.
+    let floor = m_s2_per_lsb / 10.0;
+    let bin_sd_m_s2: Vec<f64> = means.iter().map(|m| robust_sd(m) * m_s2_per_lsb).collect();
+    let moved = (0..3)
+        .filter_map(|k| {
+            let mid = median(&means[k])?;
+            let peak = means[k].iter().fold(0.0f64, |p, m| p.max((m - mid).abs()));
+            let sds = peak * m_s2_per_lsb / bin_sd_m_s2[k].max(floor);
+            (sds > MOTION_SDS).then_some((k, sds))
         })
-        .collect();
+        .max_by(|a, b| a.1.total_cmp(&b.1));
     AtRest {
         axes,
         gravity,
         bin_sd_m_s2,
+        moved,
     }
+}
+
+/// The sd of Gaussian values `m` from their successive differences: `median |m[i+1] - m[i]|
+/// / (0.6745 sqrt 2)` (a difference of two has sd `sqrt 2` times theirs; 0.6745 is the median
+/// of a standard normal's absolute value), 0 for under two values.
+fn robust_sd(m: &[f64]) -> f64 {
+    let d: Vec<f64> = m.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+    median(&d).map_or(0.0, |d| d / (0.674_489_75 * std::f64::consts::SQRT_2))
+}
+
+fn median(v: &[f64]) -> Option<f64> {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    (n > 0).then(|| (v[(n - 1) / 2] + v[n / 2]) / 2.0)
 }
 
 /// The one-sided white noise density [m/s^2/sqrt(Hz)] read from the Allan deviation at the
@@ -228,6 +258,14 @@ pub fn verdict(
 ) -> Verdict {
     let mut problems = vec![];
     let mut notes = vec![];
+    if let Some((k, sds)) = rest.moved {
+        problems.push(format!(
+            "the mouse moved during the rest step ({} went {sds:.0} sd past its noise): the \
+             noise and zero below are read from motion; keep it still, flat on the desk, and \
+             run the check again",
+            AXES[k]
+        ));
+    }
     for (k, a) in rest.axes.iter().enumerate() {
         let name = AXES[k];
         if a.rail_share > RAIL_SHARE {
@@ -413,6 +451,40 @@ mod tests {
             ),
             None
         );
+    }
+
+    #[test]
+    fn a_rest_that_moved_is_named_and_keeps_the_threshold_of_a_still_one() {
+        let (codes, _) = desk::check(7);
+        let fs = desk::FS as usize;
+        let still = rest_of(&codes[..4 * fs]);
+        assert_eq!(still.moved, None);
+        // The move right (0.5 s from 6.5 s) played into the rest's last second.
+        let mut moving = codes[..4 * fs].to_vec();
+        moving[3 * fs..].copy_from_slice(&codes[6 * fs..7 * fs]);
+        let rest = rest_of(&moving);
+        let (axis, sds) = rest.moved.expect("the stroke in the rest is seen");
+        assert_eq!(axis, 0);
+        assert!(sds > MOTION_SDS, "{sds}");
+        let v = verdict(&rest, None, None, (0, 1.0, 1, 1.0));
+        assert!(
+            v.problems[0].starts_with("the mouse moved during the rest step (X went"),
+            "{:?}",
+            v.problems
+        );
+        // The sd the moved test and the stroke threshold use comes from the noise, not from
+        // the motion. Were a quarter of the successive differences (the moving second) as
+        // large as can be, the median would move to the 0.5/0.75 quantile of the rest's:
+        // |z| 0.967 for 0.674, 1.43 times; with 4 sd of the estimator's own spread (6.3 % at
+        // 400 means, simulated) on top, 1.8 times at most. The plain sd is well over that.
+        for k in 0..3 {
+            let r = rest.bin_sd_m_s2[k] / still.bin_sd_m_s2[k];
+            assert!(r < 1.8, "axis {k}: {r}");
+        }
+        let x = bin_means(&moving, 0, desk::FS as usize / 100);
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        let plain = (x.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / x.len() as f64).sqrt();
+        assert!(plain * LSB > 5.0 * rest.bin_sd_m_s2[0], "{plain}");
     }
 
     #[test]
