@@ -176,6 +176,10 @@ fn a_bad_argument_is_named_on_stderr_with_status_2() {
             "--bits 17: the core's ADC resolutions",
         ),
         (
+            vec!["mouse", "--trace", "drags:1", "--every-ms", "0"],
+            "--every-ms 0: 1..=60000 ms between trace lines",
+        ),
+        (
             vec!["mouse", "--rest-minutes", "1e12"],
             "--rest-minutes 1e12: at most",
         ),

@@ -269,8 +269,19 @@ fn every_family_has_its_name_and_a_trace() {
         host_tests::world::hand::SensorSpec::ADXL335,
         1,
         0,
+        None,
     );
     assert!(t.contains("Moving") && t.contains("end: cursor"), "{t}");
+    // A line every 100 ms as well: the 1.3 s or so of a stroke trial gives ten more.
+    let every = families::trace(
+        Kind::Strokes,
+        Some(Drift::default()),
+        host_tests::world::hand::SensorSpec::ADXL335,
+        1,
+        0,
+        Some(100),
+    );
+    assert!(every.lines().count() >= t.lines().count() + 10, "{every}");
 }
 
 #[test]

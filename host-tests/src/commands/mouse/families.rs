@@ -930,9 +930,17 @@ fn rests(spec: SensorSpec, base: Config, devices: usize, minutes: f64, seed: u64
 }
 
 /// A trace of trial `k` of `kind` on a device of `spec`: every change of drift control's
-/// state, with the cursor. The board's sensor gives the family run's device; another gives
-/// the device of that rate's or sensor's sweep.
-pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: usize) -> String {
+/// state, with the cursor, and a line every `every_ms` [ms] besides if given. The board's
+/// sensor gives the family run's device; another gives the device of that rate's or sensor's
+/// sweep.
+pub fn trace(
+    kind: Kind,
+    drift: Option<Drift>,
+    spec: SensorSpec,
+    seed: u64,
+    k: usize,
+    every_ms: Option<u32>,
+) -> String {
     let base = Config {
         drift,
         ..Config::default()
@@ -966,6 +974,7 @@ pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: u
     let m_per_count = 0.0254 / dev.cpi;
     let mut pos = [0i64; 2];
     let mut last = (None, t.counters(), false);
+    let every = every_ms.map(|ms| ((f64::from(ms) * fs / 1000.0).round() as usize).max(1));
     for i in 0..(case.scenario.seconds * fs).round() as usize {
         let time = i as f64 / fs;
         let (a, read, tilt) = case.scenario.at(time);
@@ -974,10 +983,6 @@ pub fn trace(kind: Kind, drift: Option<Drift>, spec: SensorSpec, seed: u64, k: u
         pos[0] += i64::from(c[0]);
         pos[1] += i64::from(c[1]);
         let now = (t.drift_state(), t.counters(), t.is_holding());
-        let every = std::env::var("LAB_TRACE_EVERY_MS")
-            .ok()
-            .and_then(|v| v.parse::<usize>().ok())
-            .map(|ms| (ms as f64 * fs / 1000.0).max(1.0) as usize);
         if every.is_some_and(|e| i % e == 0)
             || now.0 != last.0
             || now.1.motions != last.1.motions

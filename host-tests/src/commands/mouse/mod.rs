@@ -368,6 +368,9 @@ pub struct Args {
     /// The traced device's ADC resolution [bits].
     #[arg(long, requires = "trace")]
     pub bits: Option<u8>,
+    /// A trace line every this many milliseconds as well as at each decision, `1..=60000`.
+    #[arg(long, requires = "trace", value_name = "MS")]
+    pub every_ms: Option<u32>,
     /// The long-rest benchmark: this many device-hours at rest on each of the two
     /// sensors (the ADXL335 with its bias walk, and 100 ug/sqrt(Hz) on 12 bits), `0.01..=10000`.
     #[arg(long, value_name = "HOURS")]
@@ -452,12 +455,20 @@ pub fn run(a: &Args) -> super::Outcome {
             bits: a.bits.unwrap_or(d.bits),
             ..d
         };
+        if let Some(ms) = a.every_ms.filter(|ms| !(1..=60_000).contains(ms)) {
+            return Err(super::Error::arg(
+                "every-ms",
+                ms,
+                "1..=60000 ms between trace lines",
+            ));
+        }
         return Ok(families::trace(
             kind,
             Some(Drift::default()),
             spec,
             a.seed,
             k,
+            a.every_ms,
         ));
     }
     let z = if a.quick {
