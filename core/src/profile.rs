@@ -387,7 +387,67 @@ impl fmt::Display for Shown {
     }
 }
 
+/// The words a user types for the scheme's values (0 Euler, 1 trapezoid).
+pub const SCHEMES: [&str; 2] = ["euler", "trapezoid"];
+/// The words a user types for a flag's values (0 off, 1 on).
+pub const FLAG_WORDS: [&str; 2] = ["off", "on"];
+
 impl Key {
+    /// The words the key takes instead of numbers, by value (a flag's `off`/`on`, the
+    /// scheme's); empty for a key of numbers.
+    pub const fn words(self) -> &'static [&'static str] {
+        match (self, self.kind()) {
+            (_, Kind::Flag) => &FLAG_WORDS,
+            (Key::Scheme, _) => &SCHEMES,
+            _ => &[],
+        }
+    }
+
+    /// Value `v` of this key as a word, where it is one: `off` for an optional key that is
+    /// off (NaN), a flag's or the scheme's word; `None` for a number (shown as the caller
+    /// formats numbers).
+    pub fn word(self, v: f64) -> Option<&'static str> {
+        if self.kind() == Kind::Optional && v.is_nan() {
+            return Some("off");
+        }
+        // A word key's values are its words' positions; anything else shows as a number
+        // (NaN is not whole).
+        if v < 0.0 || libm::trunc(v) != v {
+            return None;
+        }
+        self.words().get(v as usize).copied()
+    }
+
+    /// The value `text` gives the key as a user types it (`KEY=text`), or `None` if the key
+    /// does not take it ([`Self::wanted`] says what it takes). A key of words takes its words
+    /// only, in any case (`drift=1` is not a flag's number); the others take finite numbers,
+    /// and `off` where they may be off. Only the form is judged here: [`Profile::set`] and
+    /// [`Profile::validate`] judge the value.
+    pub fn read(self, text: &str) -> Option<f64> {
+        let t = text.trim();
+        let words = self.words();
+        if !words.is_empty() {
+            return words
+                .iter()
+                .position(|w| w.eq_ignore_ascii_case(t))
+                .map(|i| i as f64);
+        }
+        if self.kind() == Kind::Optional && t.eq_ignore_ascii_case("off") {
+            return Some(f64::NAN);
+        }
+        t.parse::<f64>().ok().filter(|v| v.is_finite())
+    }
+
+    /// What a typed value must be, in words, for a message: `must be on or off`.
+    pub const fn wanted(self) -> &'static str {
+        match (self, self.kind()) {
+            (_, Kind::Flag) => "must be on or off",
+            (Key::Scheme, _) => "must be euler or trapezoid",
+            (_, Kind::Optional) => "must be a finite number or off",
+            _ => "must be a finite number",
+        }
+    }
+
     /// The key called `name`, if there is one.
     pub fn from_name(name: &str) -> Option<Key> {
         Key::ALL.into_iter().find(|k| k.name() == name)

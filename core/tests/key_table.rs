@@ -279,3 +279,47 @@ fn ranges_and_numbers_read_as_a_person_writes_them() {
     assert_eq!(above.to_string(), "above 0.2, up to 2.4");
     assert!(!above.contains(0.2) && above.contains(2.4));
 }
+
+#[test]
+fn values_read_and_show_as_the_words_a_user_types() {
+    use imu_core::profile::{FLAG_WORDS, SCHEMES};
+    // Word keys take their words only, in any case; a number is not a flag's word.
+    assert_eq!(Key::Drift.words(), &FLAG_WORDS);
+    assert_eq!(Key::Scheme.words(), &SCHEMES);
+    assert!(Key::CountsPerInch.words().is_empty());
+    assert_eq!(Key::Drift.read(" ON "), Some(1.0));
+    assert_eq!(Key::Drift.read("off"), Some(0.0));
+    assert_eq!(Key::Drift.read("1"), None);
+    assert_eq!(Key::Scheme.read("Trapezoid"), Some(1.0));
+    assert_eq!(Key::Scheme.read("rk4"), None);
+    // Numbers: finite only; `off` only where the key may be off.
+    assert_eq!(Key::CountsPerInch.read(" 1600 "), Some(1600.0));
+    assert_eq!(Key::CountsPerInch.read("1e400"), None);
+    assert_eq!(Key::CountsPerInch.read("NaN"), None);
+    assert_eq!(Key::CountsPerInch.read("off"), None);
+    assert!(Key::LowpassFcHz.read("OFF").is_some_and(f64::is_nan));
+    assert_eq!(Key::LowpassFcHz.read("50"), Some(50.0));
+    // Shown: a word where the value is one, else None (the caller formats the number).
+    assert_eq!(Key::LowpassFcHz.word(f64::NAN), Some("off"));
+    assert_eq!(Key::LowpassFcHz.word(50.0), None);
+    assert_eq!(Key::Drift.word(1.0), Some("on"));
+    assert_eq!(Key::Drift.word(0.0), Some("off"));
+    assert_eq!(Key::Scheme.word(1.0), Some("trapezoid"));
+    for v in [0.5, -1.0, 2.0, f64::NAN] {
+        assert_eq!(Key::Scheme.word(v), None, "{v}");
+    }
+    assert_eq!(Key::CountsPerInch.word(0.0), None);
+    // What each must be, for a message.
+    assert_eq!(Key::Drift.wanted(), "must be on or off");
+    assert_eq!(Key::Scheme.wanted(), "must be euler or trapezoid");
+    assert_eq!(Key::LowpassFcHz.wanted(), "must be a finite number or off");
+    assert_eq!(Key::CountsPerInch.wanted(), "must be a finite number");
+    // Every default reads back from its word or number.
+    let p = Profile::default();
+    for k in Key::ALL {
+        let v = p.get(k);
+        let shown = k.word(v).map_or_else(|| format!("{v}"), str::to_string);
+        let back = k.read(&shown).expect("reads");
+        assert!(back == v || (back.is_nan() && v.is_nan()), "{k}: {shown}");
+    }
+}

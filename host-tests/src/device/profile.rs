@@ -2,31 +2,16 @@
 //! `euler`, `trapezoid`), as `cargo lab device config` reads and prints it and as a
 //! recording's `profile,` line carries it ([`crate::formats::recording`]).
 
-use imu_core::profile::{Key, Kind, Profile};
+use imu_core::profile::{Key, Profile};
 
-/// The words `scheme` takes, by value.
-pub const SCHEMES: [&str; 2] = ["euler", "trapezoid"];
+pub use imu_core::profile::SCHEMES;
 
 /// A key's value as a user reads it, and writes it: [`read_pair`] takes it back exactly.
 pub fn show(key: Key, v: f64) -> String {
-    match key.kind() {
-        Kind::Optional if v.is_nan() => "off".into(),
-        Kind::Flag => (if v == 1.0 { "on" } else { "off" }).into(),
-        _ if key == Key::Scheme => SCHEMES
-            .get(v as usize)
-            .map_or_else(|| format!("{v}"), |w| (*w).into()),
+    match key.word(v) {
+        Some(w) => w.into(),
         // Exact (it reads back as itself), in exponent form when huge or tiny.
-        _ => crate::formats::number::Num(v).to_string(),
-    }
-}
-
-/// What a key's value must be, in words, for an error message.
-fn wanted(key: Key) -> &'static str {
-    match key.kind() {
-        Kind::Flag => "must be on or off",
-        Kind::Optional => "must be a finite number or off",
-        _ if key == Key::Scheme => "must be euler or trapezoid",
-        _ => "must be a finite number",
+        None => crate::formats::number::Num(v).to_string(),
     }
 }
 
@@ -34,7 +19,8 @@ fn wanted(key: Key) -> &'static str {
 ///
 /// # Errors
 /// `"{pair}: why"`: no `=`, an unknown key (the keys are listed), a value the key does not
-/// take (a finite number; `off`/`on` where the key takes them; `euler`/`trapezoid`).
+/// take ([`Key::read`]: a finite number; `off`/`on` where the key takes them;
+/// `euler`/`trapezoid`).
 pub fn read_pair(pair: &str) -> Result<(Key, f64), String> {
     let bad = |why: &str| format!("{}: {why}", crate::formats::lines::quote(pair));
     let (k, v) = pair
@@ -44,23 +30,7 @@ pub fn read_pair(pair: &str) -> Result<(Key, f64), String> {
         let names: Vec<&str> = Key::ALL.iter().map(|k| k.name()).collect();
         bad(&format!("unknown key; the keys: {}", names.join(", ")))
     })?;
-    let v = v.trim();
-    let word = |words: &[&str]| {
-        words
-            .iter()
-            .position(|w| w.eq_ignore_ascii_case(v))
-            .map(|i| i as f64)
-    };
-    let number = || v.parse::<f64>().ok().filter(|x| x.is_finite());
-    // A key of words takes its words only (`drift=1` would read as a flag's number); the
-    // others take numbers, and `off` where they may be off.
-    let value = match key.kind() {
-        Kind::Flag => word(&["off", "on"]),
-        _ if key == Key::Scheme => word(&SCHEMES),
-        Kind::Optional if v.eq_ignore_ascii_case("off") => Some(f64::NAN),
-        _ => number(),
-    };
-    Ok((key, value.ok_or_else(|| bad(wanted(key)))?))
+    Ok((key, key.read(v).ok_or_else(|| bad(key.wanted()))?))
 }
 
 /// The profile `pairs` describe: the defaults with each pair set in order. A pair the key
