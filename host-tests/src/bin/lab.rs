@@ -47,10 +47,12 @@ enum Command {
     /// The device's settings and raw recording over its configuration interface, on a
     /// board (hidapi) or the twin (`--twin 127.0.0.1:3240`).
     Device(cmd::device::Args),
+    /// The settings page on 127.0.0.1, bridged to a board (hidapi) or the twin (`--twin`).
+    Ui(cmd::ui::Args),
 }
 
 /// Each command with one example, in the order of `Command`.
-const EXAMPLES: [(&str, &str); 12] = [
+const EXAMPLES: [(&str, &str); 13] = [
     ("predict", cmd::predict::EXAMPLE),
     ("budget", cmd::budget::EXAMPLE),
     ("hid", cmd::hid::EXAMPLE),
@@ -63,6 +65,7 @@ const EXAMPLES: [(&str, &str); 12] = [
     ("drift", cmd::drift::EXAMPLE),
     ("twin", cmd::twin::EXAMPLE),
     ("device", cmd::device::EXAMPLE),
+    ("ui", cmd::ui::EXAMPLE),
 ];
 
 fn examples() -> String {
@@ -87,6 +90,7 @@ fn run(command: &Command) -> cmd::Outcome {
         Command::Allan(a) => cmd::allan::run(a),
         Command::Drift(a) => cmd::drift::run(a),
         Command::Twin(a) => cmd::twin::run(a),
+        Command::Ui(a) => cmd::ui::run(a),
     }
 }
 

@@ -33,6 +33,7 @@ pub mod reproduce;
 pub mod simulate;
 pub mod speed;
 pub mod twin;
+pub mod ui;
 
 /// Why a command failed.
 #[derive(Debug)]

@@ -1,6 +1,7 @@
 //! The device on the host: the core (and the firmware's application, `imu_app`) driven
 //! exactly as the firmware drives them.
 //!
+//! - [`bridge`]: the settings page's frames between its WebSocket and a device;
 //! - [`check`]: a board judged from what it recorded at rest and moved;
 //! - [`track`]: samples through `Tracker` and a 1 ms USB poll through `Reporter`;
 //! - [`trial`]: one axis through the real fixed-point pipeline, the Monte Carlo's unit;
@@ -11,6 +12,7 @@
 //! - [`profile`]: a profile's keys as text, as `config` and a recording's `profile,` line
 //!   carry them.
 
+pub mod bridge;
 pub mod check;
 pub mod client;
 pub mod flash;

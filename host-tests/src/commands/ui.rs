@@ -1,0 +1,230 @@
+//! `cargo lab ui`: serves the settings page (`web/`) on 127.0.0.1 and bridges it to a board
+//! (through `hidapi`) or to the twin (`--twin ADDR`, over USB/IP) with a WebSocket at
+//! `/ws` ([`crate::device::bridge`]). It opens no browser by itself.
+//!
+//! The page's files are built into the lab (`include_bytes!`), so it serves what it was
+//! built with from any directory. Only the page's own origin may open the bridge: a
+//! WebSocket from another site's page (which a browser would let connect to 127.0.0.1) is
+//! refused, so no web page but this one can change the mouse's settings.
+
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::time::Duration;
+
+use tungstenite::handshake::server::{ErrorResponse, Request, Response};
+
+use crate::device::bridge;
+use crate::device::client::HidLink;
+use crate::device::usbip::BUSID;
+use crate::device::usbip_host::UsbIpHost;
+
+use super::{positive, Error, Outcome};
+
+/// One example, for `cargo lab` alone.
+pub const EXAMPLE: &str =
+    "cargo lab ui --twin 127.0.0.1:3240   (then open http://127.0.0.1:8340/ in a browser)";
+
+/// `cargo lab ui`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Bridge to the twin (`cargo lab twin`) at this USB/IP address instead of a board.
+    #[arg(long)]
+    pub twin: Option<SocketAddr>,
+    /// The port on 127.0.0.1 to serve the page on, `1..=65535`.
+    #[arg(long, default_value_t = 8340)]
+    pub port: u16,
+    /// The board with this USB serial number (`cargo lab device list`); without it, the only one.
+    #[arg(long)]
+    pub serial: Option<String>,
+    /// How long the device may take to answer when the page connects [s].
+    #[arg(long, allow_negative_numbers = true, default_value_t = 5.0)]
+    pub timeout: f64,
+}
+
+/// The page's files: path, content type, bytes.
+const FILES: [(&str, &str, &[u8]); 4] = [
+    (
+        "/",
+        "text/html; charset=utf-8",
+        include_bytes!("../../../web/index.html"),
+    ),
+    (
+        "/app.js",
+        "text/javascript; charset=utf-8",
+        include_bytes!("../../../web/app.js"),
+    ),
+    (
+        "/style.css",
+        "text/css; charset=utf-8",
+        include_bytes!("../../../web/style.css"),
+    ),
+    (
+        "/imu_protocol.wasm",
+        "application/wasm",
+        include_bytes!("../../../web/imu_protocol.wasm"),
+    ),
+];
+
+/// The request's head (up to the blank line, at most 16 KiB), without consuming it.
+fn peek_head(s: &TcpStream) -> std::io::Result<String> {
+    let mut buf = vec![0u8; 16 * 1024];
+    for _ in 0..200 {
+        let n = s.peek(&mut buf)?;
+        let head = String::from_utf8_lossy(&buf[..n]).into_owned();
+        if n == 0 || head.contains("\r\n\r\n") || n == buf.len() {
+            return Ok(head);
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    Ok(String::new())
+}
+
+fn respond(s: &mut TcpStream, status: &str, kind: &str, body: &[u8]) -> std::io::Result<()> {
+    write!(
+        s,
+        "HTTP/1.1 {status}\r\nContent-Type: {kind}\r\nContent-Length: {}\r\n\
+         Cache-Control: no-store\r\nConnection: close\r\n\r\n",
+        body.len()
+    )?;
+    s.write_all(body)
+}
+
+/// Serves one connection: a file, or the bridge.
+fn serve(mut s: TcpStream, port: u16, a: &Args) -> std::io::Result<()> {
+    s.set_read_timeout(Some(Duration::from_secs(5)))?;
+    let head = peek_head(&s)?;
+    let mut words = head.split_whitespace();
+    let (method, path) = (words.next().unwrap_or(""), words.next().unwrap_or(""));
+    let path = path.split('?').next().unwrap_or("");
+    if path == "/ws" {
+        return bridge_session(s, port, a);
+    }
+    // Consume the head (a GET has no body) before answering.
+    let mut sink = vec![0u8; head.len()];
+    s.read_exact(&mut sink)?;
+    match FILES.iter().find(|(p, _, _)| *p == path) {
+        Some((_, kind, body)) if method == "GET" => respond(&mut s, "200 OK", kind, body),
+        Some(_) => respond(
+            &mut s,
+            "405 Method Not Allowed",
+            "text/plain",
+            b"GET only\n",
+        ),
+        None => respond(
+            &mut s,
+            "404 Not Found",
+            "text/plain",
+            b"not part of the page\n",
+        ),
+    }
+}
+
+/// The origins the page is served from on `port`.
+fn own_origin(origin: &str, port: u16) -> bool {
+    [
+        format!("http://127.0.0.1:{port}"),
+        format!("http://localhost:{port}"),
+    ]
+    .iter()
+    .any(|o| o == origin)
+}
+
+fn bridge_session(s: TcpStream, port: u16, a: &Args) -> std::io::Result<()> {
+    // tungstenite's callback type fixes the error type (an HTTP response).
+    #[allow(clippy::result_large_err)]
+    let check = |req: &Request, resp: Response| -> Result<Response, ErrorResponse> {
+        let origin = req
+            .headers()
+            .get("origin")
+            .and_then(|o| o.to_str().ok())
+            .unwrap_or("");
+        if own_origin(origin, port) {
+            Ok(resp)
+        } else {
+            let mut refused = ErrorResponse::new(Some(format!(
+                "only the page served here may use the bridge, not {origin:?}"
+            )));
+            *refused.status_mut() = tungstenite::http::StatusCode::FORBIDDEN;
+            Err(refused)
+        }
+    };
+    let mut ws = match tungstenite::accept_hdr(s, check) {
+        Ok(ws) => ws,
+        Err(e) => {
+            eprintln!("ui: a WebSocket was refused: {e}");
+            return Ok(());
+        }
+    };
+    let timeout = Duration::from_secs_f64(a.timeout);
+    let ended = match a.twin {
+        Some(addr) => match UsbIpHost::connect(addr, BUSID, timeout) {
+            Ok(mut host) => bridge::run(&mut ws, &mut host).map_err(|e| e.to_string()),
+            Err(e) => Err(format!(
+                "the twin at {addr}: {e} (is `cargo lab twin` running, and no other host \
+                 attached to it?)"
+            )),
+        },
+        None => match HidLink::open(a.serial.as_deref()) {
+            Ok(mut hid) => bridge::run(&mut ws, &mut hid).map_err(|e| e.to_string()),
+            Err(e) => Err(format!("no board: {e}")),
+        },
+    };
+    match ended {
+        Ok((to, from)) => {
+            eprintln!("ui: the page disconnected ({to} frames to the device, {from} from it)")
+        }
+        Err(why) => {
+            eprintln!("ui: {why}");
+            // The page shows why its connection ended.
+            let _ = ws.send(tungstenite::Message::text(format!(
+                "{{\"link_error\":{why:?}}}"
+            )));
+            let _ = ws.close(None);
+            let _ = ws.flush();
+        }
+    }
+    Ok(())
+}
+
+/// Runs `cargo lab ui` until it is stopped.
+///
+/// # Errors
+/// A bad `--port` or `--timeout`, or the port already in use.
+pub fn run(a: &Args) -> Outcome {
+    positive("timeout", a.timeout)?;
+    if a.timeout > 3600.0 {
+        return Err(Error::arg("timeout", a.timeout, "at most 3600 s"));
+    }
+    if a.port == 0 {
+        return Err(Error::arg("port", 0, "1..=65535"));
+    }
+    let listener = TcpListener::bind(("127.0.0.1", a.port)).map_err(|e| {
+        Error::Run(format!(
+            "cannot serve on 127.0.0.1:{}: {e} (another `cargo lab ui`? choose --port)",
+            a.port
+        ))
+    })?;
+    eprintln!(
+        "ui: the settings page is at http://127.0.0.1:{}/ ({}); Ctrl-C stops",
+        a.port,
+        match a.twin {
+            Some(t) => format!("bridged to the twin at {t}"),
+            None => "bridged to a board through hidapi, or open it in Chrome for WebHID".into(),
+        }
+    );
+    std::thread::scope(|scope| {
+        for s in listener.incoming() {
+            match s {
+                Ok(s) => {
+                    scope.spawn(move || {
+                        if let Err(e) = serve(s, a.port, a) {
+                            eprintln!("ui: a connection failed: {e}");
+                        }
+                    });
+                }
+                Err(e) => eprintln!("ui: accept: {e}"),
+            }
+        }
+    });
+    Ok(String::new())
+}
