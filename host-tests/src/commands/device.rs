@@ -487,27 +487,20 @@ fn check<L: Link>(
     json: bool,
 ) -> Outcome {
     use crate::device::check;
-    use crate::formats::chart::{Chart, Trace};
     let fs = c.info()?.fs_hz;
     let p = profile_of(&c.config()?);
     let (m, bits) = (p.config.m_s2_per_lsb, p.config.adc_bits);
     let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed));
     eprintln!("check 1/3: keep the mouse still, flat on the desk, for {rest_s} s ...");
     let still = take(c, rest_s, fs)?;
-    let rest = check::at_rest(&still, f64::from(fs), m, bits);
-    let gravity: Vec<usize> = rest.gravity.iter().map(|g| g.0).collect();
     eprintln!(
         "check 2/3: now slide the mouse straight to the RIGHT, about 10 cm (within {move_s} s) ..."
     );
     let moved_right = take(c, move_s, fs)?;
-    let right = check::stroke(&moved_right, f64::from(fs), m, &rest, &gravity);
-    let mut exclude = gravity.clone();
-    exclude.extend(right.iter().map(|r| r.axis));
     eprintln!(
         "check 3/3: now slide it straight AWAY from you, about 10 cm (within {move_s} s) ..."
     );
     let moved_away = take(c, move_s, fs)?;
-    let away = check::stroke(&moved_away, f64::from(fs), m, &rest, &exclude);
     let sign = |flip: bool| if flip { -1.0 } else { 1.0 };
     let current = (
         usize::from(p.map.x_axis),
@@ -515,34 +508,16 @@ fn check<L: Link>(
         usize::from(p.map.y_axis),
         sign(p.map.y_flip),
     );
-    let v = check::verdict(&rest, right.as_ref(), away.as_ref(), current);
-    // The chart: every sample of the three steps, as acceleration off the rest level.
-    let all: Vec<[u16; 3]> = [still, moved_right, moved_away].concat();
-    let step = (all.len() / 3000).max(1);
-    let chart = Chart {
-        title: "device check: at rest, right, away".into(),
-        x_label: "t [s]".into(),
-        y_label: "acceleration off the rest level [m/s^2]".into(),
-        traces: (0..3)
-            .map(|k| Trace {
-                label: format!("sensor {}", check::AXES[k]),
-                color: super::COLORS[k],
-                pts: all
-                    .chunks(step)
-                    .enumerate()
-                    .map(|(i, ch)| {
-                        let mean =
-                            ch.iter().map(|s| f64::from(s[k])).sum::<f64>() / ch.len() as f64;
-                        (
-                            (i * step) as f64 / f64::from(fs),
-                            (mean - rest.axes[k].mean_lsb) * m,
-                        )
-                    })
-                    .collect(),
-            })
-            .collect(),
-        equal_aspect: false,
-    };
+    let steps: [&[[u16; 3]]; 3] = [&still, &moved_right, &moved_away];
+    let fs = f64::from(fs);
+    let check::Checked {
+        rest,
+        right,
+        away,
+        verdict: v,
+    } = check::judge(steps, fs, m, bits, current);
+    let colors = [super::COLORS[0], super::COLORS[1], super::COLORS[2]];
+    let chart = check::chart(steps, fs, m, &rest, colors);
     let plot = super::write_out(out, "check.svg", &chart.to_svg())?;
     let report = if json {
         super::json(&serde_json::json!({

@@ -368,6 +368,82 @@ pub fn verdict(
     }
 }
 
+/// The whole check: the three steps' recordings judged and drawn.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Checked {
+    /// The board at rest.
+    pub rest: AtRest,
+    /// The move right, if one was seen.
+    pub right: Option<Stroke>,
+    /// The move away, if one was seen.
+    pub away: Option<Stroke>,
+    /// What to do.
+    pub verdict: Verdict,
+}
+
+/// Judges `still`, then `right` and `away` (codes at `fs` [Hz], `m_s2_per_lsb` on a
+/// `bits`-bit ADC) for a board whose profile maps the axes as `current` (see [`verdict`]):
+/// the right stroke is looked for off the gravity axis, the away stroke off both.
+pub fn judge(
+    [still, right, away]: [&[[u16; 3]]; 3],
+    fs: f64,
+    m_s2_per_lsb: f64,
+    bits: u8,
+    current: (usize, f64, usize, f64),
+) -> Checked {
+    let rest = at_rest(still, fs, m_s2_per_lsb, bits);
+    let gravity: Vec<usize> = rest.gravity.iter().map(|g| g.0).collect();
+    let moved_right = stroke(right, fs, m_s2_per_lsb, &rest, &gravity);
+    let mut exclude = gravity;
+    exclude.extend(moved_right.iter().map(|r| r.axis));
+    let moved_away = stroke(away, fs, m_s2_per_lsb, &rest, &exclude);
+    let verdict = verdict(&rest, moved_right.as_ref(), moved_away.as_ref(), current);
+    Checked {
+        rest,
+        right: moved_right,
+        away: moved_away,
+        verdict,
+    }
+}
+
+/// The check's chart: every sample of the steps in order, as acceleration off the rest level
+/// [m/s^2], at most about 3000 points an axis (means of consecutive samples), in `colors`.
+pub fn chart(
+    steps: [&[[u16; 3]]; 3],
+    fs: f64,
+    m_s2_per_lsb: f64,
+    rest: &AtRest,
+    colors: [&'static str; 3],
+) -> crate::formats::chart::Chart {
+    use crate::formats::chart::{Chart, Trace};
+    let all: Vec<[u16; 3]> = steps.concat();
+    let step = (all.len() / 3000).max(1);
+    Chart {
+        title: "device check: at rest, right, away".into(),
+        x_label: "t [s]".into(),
+        y_label: "acceleration off the rest level [m/s^2]".into(),
+        traces: (0..3)
+            .map(|k| Trace {
+                label: format!("sensor {}", AXES[k]),
+                color: colors[k],
+                pts: all
+                    .chunks(step)
+                    .enumerate()
+                    .map(|(i, ch)| {
+                        let mean =
+                            ch.iter().map(|s| f64::from(s[k])).sum::<f64>() / ch.len() as f64;
+                        (
+                            (i * step) as f64 / fs,
+                            (mean - rest.axes[k].mean_lsb) * m_s2_per_lsb,
+                        )
+                    })
+                    .collect(),
+            })
+            .collect(),
+        equal_aspect: false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
