@@ -238,6 +238,7 @@ function connected(on) {
     "live-start",
     "live-stop",
     "rec-start",
+    "check-start",
     "disconnect",
   ]) {
     $(id).disabled = !on;
@@ -259,6 +260,7 @@ async function connect(transport, how) {
   transport.onclose = (why) => {
     if (state.session !== session) return;
     state.session = null;
+    state.check = null;
     connected(false);
     status(why ? `Disconnected: ${why}` : "Disconnected.", Boolean(why));
   };
@@ -278,6 +280,7 @@ function disconnect() {
   const s = state.session;
   if (!s) return;
   state.session = null;
+  state.check = null;
   s.t.close();
   connected(false);
   status("Disconnected.");
@@ -479,6 +482,7 @@ function live(frame) {
   const keep = Math.max(2 * state.fs, 1);
   if (l.codes.length > 2 * keep) l.codes = l.codes.slice(-keep);
   if (state.recording) state.recording.push(...frame.codes);
+  if (state.check) checkTake(frame.codes);
 }
 
 /** The cursor path since the stream started, x right and y down, at one scale for both. */
@@ -611,6 +615,102 @@ function recordStop() {
   link.hidden = false;
 }
 
+// ---- the guided check ------------------------------------------------------------------
+
+/** The check's steps, as `cargo lab device check` takes them: [s] still, and each move. */
+const CHECK_STEPS = [
+  [4, "1/3: keep the mouse still, flat on the desk"],
+  [5, "2/3: now slide the mouse straight to the RIGHT, about 10 cm"],
+  [5, "3/3: now slide it straight AWAY from you, about 10 cm"],
+];
+
+function checkPrompt() {
+  const c = state.check;
+  const [seconds, say] = CHECK_STEPS[c.step] ?? [0, "judging ..."];
+  $("check-step").textContent = seconds ? `${say} (${seconds} s) ...` : say;
+}
+
+/** Each streamed sample into the step it belongs to; the last step's end ends the check. */
+function checkTake(codes) {
+  const c = state.check;
+  for (const code of codes) {
+    if (c.step >= CHECK_STEPS.length) break;
+    c.steps[c.step].push(code);
+    if (c.steps[c.step].length >= CHECK_STEPS[c.step][0] * state.fs) {
+      c.step += 1;
+      checkPrompt();
+    }
+  }
+  if (c.step >= CHECK_STEPS.length) c.done();
+}
+
+async function runCheck() {
+  const value = (name) => state.table.find((k) => k.name === name).value;
+  $("check-verdict").textContent = "";
+  $("check-findings").replaceChildren();
+  $("check-plot").hidden = true;
+  $("check-start").disabled = true;
+  const lostBefore = state.streaming ? state.live.lost : 0;
+  const finished = new Promise((done) => {
+    state.check = { step: 0, steps: [[], [], []], done };
+  });
+  checkPrompt();
+  try {
+    if (!state.streaming) await stream(true);
+    await finished;
+  } catch (e) {
+    state.check = null;
+    $("check-start").disabled = false;
+    throw e;
+  }
+  const steps = state.check.steps;
+  state.check = null;
+  await stream(false);
+  $("check-start").disabled = false;
+  if (state.live.lost > lostBefore) {
+    $("check-step").textContent = "Samples were lost during the check: run it again.";
+    return;
+  }
+  await judgeCheck(steps, value);
+}
+
+async function judgeCheck(steps, value) {
+  const body = JSON.stringify({
+    fs: state.fs,
+    m_s2_per_lsb: value("m_s2_per_lsb"),
+    adc_bits: value("adc_bits"),
+    current: [value("x_axis"), value("x_sign"), value("y_axis"), value("y_sign")],
+    steps,
+  });
+  let answer;
+  try {
+    const r = await fetch("check", { method: "POST", body });
+    if (!r.ok) throw new Error(await r.text());
+    answer = await r.json();
+  } catch (e) {
+    $("check-step").textContent = `The lab could not judge the check: ${e.message}`;
+    return;
+  }
+  const { verdict } = answer.check;
+  $("check-step").textContent = "Done.";
+  $("check-verdict").textContent = verdict.problems.length
+    ? `${verdict.problems.length} problem(s) to fix:`
+    : "The board looks right.";
+  $("check-findings").replaceChildren(
+    ...verdict.problems
+      .map((p) => `PROBLEM: ${p}`)
+      .concat(verdict.notes.map((n) => `ok: ${n}`))
+      .map((t) => {
+        const li = document.createElement("li");
+        li.textContent = t;
+        return li;
+      }),
+  );
+  const plot = $("check-plot");
+  plot.src = URL.createObjectURL(new Blob([answer.svg], { type: "image/svg+xml" }));
+  plot.hidden = false;
+}
+
 function guard(f) {
   return async (...a) => {
     try {
@@ -644,6 +744,7 @@ async function main() {
   $("live-stop").onclick = guard(() => stream(false));
   $("rec-start").onclick = guard(recordStart);
   $("rec-stop").onclick = recordStop;
+  $("check-start").onclick = guard(runCheck);
   setInterval(draw, 100);
   document.body.dataset.ready = "true";
 }

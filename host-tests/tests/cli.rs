@@ -1205,3 +1205,79 @@ fn a_trace_describes_its_trial_in_words_and_units() {
     // No Rust debug text: no struct braces, no Some(..).
     assert!(!t.contains('{') && !t.contains("Some("), "{t}");
 }
+
+/// One HTTP/1.1 request to `port` on 127.0.0.1, and the whole answer.
+fn http(port: u16, request: &str) -> String {
+    use std::io::{Read, Write};
+    let mut s = std::net::TcpStream::connect(("127.0.0.1", port)).expect("the page's server");
+    s.set_read_timeout(Some(std::time::Duration::from_secs(10)))
+        .expect("a timeout");
+    s.write_all(request.as_bytes()).expect("sent");
+    let mut answer = vec![];
+    let _ = s.read_to_end(&mut answer);
+    text(&answer)
+}
+
+#[test]
+fn the_settings_page_server_serves_its_files_and_refuses_what_is_not_its_own() {
+    let port = {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
+        l.local_addr().expect("address").port()
+    };
+    let mut ui = lab()
+        .args(["ui", "--port", &port.to_string()])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("the page's server starts");
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(20);
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(std::time::Instant::now() < deadline, "no server");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let get = |path: &str| http(port, &format!("GET {path} HTTP/1.1\r\nHost: x\r\n\r\n"));
+    let page = get("/");
+    assert!(page.starts_with("HTTP/1.1 200 OK"), "{page}");
+    assert!(page.contains("<title>imu-mouse settings</title>"), "{page}");
+    assert!(get("/imu_protocol.wasm").contains("Content-Type: application/wasm"));
+    assert!(get("/../Cargo.toml").starts_with("HTTP/1.1 404"));
+    // The bridge only for the page's own origin: another site's page is refused.
+    let upgrade = |origin: &str| {
+        http(
+            port,
+            &format!(
+                "GET /ws HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nUpgrade: websocket\r\n\
+                 Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\
+                 Sec-WebSocket-Version: 13\r\nOrigin: {origin}\r\n\r\n"
+            ),
+        )
+    };
+    let foreign = upgrade("https://example.com");
+    assert!(foreign.starts_with("HTTP/1.1 403"), "{foreign}");
+    let own = upgrade(&format!("http://127.0.0.1:{port}"));
+    assert!(own.starts_with("HTTP/1.1 101"), "{own}");
+    // A check needs its recordings; a malformed one is a bad request, not a crash.
+    let post = |body: &str| {
+        http(
+            port,
+            &format!(
+                "POST /check HTTP/1.1\r\nHost: x\r\nContent-Length: {}\r\n\r\n{body}",
+                body.len()
+            ),
+        )
+    };
+    assert!(post("{}").starts_with("HTTP/1.1 400"));
+    let empty =
+        r#"{"fs":3000,"m_s2_per_lsb":0.024,"adc_bits":12,"current":[0,1,1,1],"steps":[[],[],[]]}"#;
+    assert!(post(empty).starts_with("HTTP/1.1 400"));
+    let still = format!(
+        r#"{{"fs":1000,"m_s2_per_lsb":0.0239,"adc_bits":12,"current":[0,1,1,1],"steps":[{s},{s},{s}]}}"#,
+        s = format!("[{}]", vec!["[2048,2049,2458]"; 1000].join(","))
+    );
+    let judged = post(&still);
+    assert!(judged.starts_with("HTTP/1.1 200 OK"), "{judged}");
+    assert!(judged.contains("no clear move right was seen"), "{judged}");
+    assert!(judged.contains("<svg"), "{judged}");
+    ui.kill().expect("stops");
+    ui.wait().expect("reaped");
+}

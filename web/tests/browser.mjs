@@ -79,6 +79,30 @@ function configGet() {
   return JSON.parse(out);
 }
 
+/**
+ * A page connected through its own `cargo lab ui` to its own twin (`lab twin ...twinArgs`),
+ * and a function that stops both; page errors are kept under `name`.
+ */
+async function connectedTo(context, twinArgs, name) {
+  const addr = `127.0.0.1:${await freePort()}`;
+  const port = await freePort();
+  const twin = await start(["twin", ...twinArgs, "--addr", addr], "waiting for a host");
+  const server = await start(["ui", "--twin", addr, "--port", String(port)], "settings page is at");
+  const p = await context.newPage();
+  p.on("pageerror", (e) => problems.push(`page (${name}): ${e.message}`));
+  await p.goto(`http://127.0.0.1:${port}/`);
+  await p.waitForSelector("body[data-ready=true]");
+  await p.click("#connect-bridge");
+  await p.waitForFunction(() => /^Connected/.test(document.getElementById("status").textContent));
+  return [
+    p,
+    () => {
+      server.kill();
+      twin.kill();
+    },
+  ];
+}
+
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
   args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking"],
@@ -289,20 +313,8 @@ try {
   // The tracker on the stream: a second twin playing the desk scene. The page's cursor
   // total over a recording started with the stream equals `cargo lab replay`'s of it (the
   // same core on the same samples), and drift control's states show as they change.
-  const deskAddr = `127.0.0.1:${await freePort()}`;
-  const deskPort = await freePort();
-  const desk = await start(["twin", "--repeat", "--addr", deskAddr], "waiting for a host");
-  const deskUi = await start(
-    ["ui", "--twin", deskAddr, "--port", String(deskPort)],
-    "settings page is at",
-  );
+  const [d, stopDesk] = await connectedTo(context, ["--repeat"], "desk");
   try {
-    const d = await context.newPage();
-    d.on("pageerror", (e) => problems.push(`page (desk): ${e.message}`));
-    await d.goto(`http://127.0.0.1:${deskPort}/`);
-    await d.waitForSelector("body[data-ready=true]");
-    await d.click("#connect-bridge");
-    await d.waitForFunction(() => /^Connected/.test(document.getElementById("status").textContent));
     await d.click("#rec-start");
     const seen = new Set();
     for (let i = 0; i < 80; i++) {
@@ -331,8 +343,41 @@ try {
     check(Math.abs(cursor[0]) + Math.abs(cursor[1]) > 100, "the desk's strokes move the cursor");
     await d.click("#disconnect");
   } finally {
-    deskUi.kill();
-    desk.kill();
+    stopDesk();
+  }
+
+  // The guided check on a twin playing the check scene (still, a stroke right at 6.5 s and
+  // one away at 11.5 s, from the first host on): the lab's verdict, on the page.
+  const [c, stopCheck] = await connectedTo(context, ["--scene", "check", "--repeat"], "check");
+  try {
+    await c.click("#check-start");
+    check(
+      /^1\/3: keep the mouse still/.test(await c.textContent("#check-step")),
+      "the check asks for rest first",
+    );
+    await c.waitForFunction(
+      () => document.getElementById("check-step").textContent === "Done.",
+      null,
+      {
+        timeout: 30000,
+      },
+    );
+    const verdict = await c.textContent("#check-verdict");
+    const findings = await c.$$eval("#check-findings li", (l) => l.map((e) => e.textContent));
+    check(
+      verdict === "The board looks right.",
+      `the check's verdict: ${verdict} ${findings.join(" | ")}`,
+    );
+    check(
+      findings.includes("ok: the axis mapping matches the strokes") &&
+        findings.some((f) => f.startsWith("ok: gravity on +Z")),
+      "the check found gravity and the mapping",
+    );
+    check(await c.isVisible("#check-plot"), "the check's chart shows");
+    await c.screenshot({ path: join(shots, "check.png"), fullPage: true });
+    await c.click("#disconnect");
+  } finally {
+    stopCheck();
   }
 
   check(problems.length === 0, `no console error (${problems.join("; ")})`);

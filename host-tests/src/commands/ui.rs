@@ -1,6 +1,8 @@
 //! `cargo lab ui`: serves the settings page (`web/`) on 127.0.0.1 and bridges it to a board
 //! (through `hidapi`) or to the twin (`--twin ADDR`, over USB/IP) with a WebSocket at
-//! `/ws` ([`crate::device::bridge`]). It opens no browser by itself.
+//! `/ws` ([`crate::device::bridge`]); `POST /check` judges the page's guided check by
+//! `cargo lab device check`'s rules ([`crate::device::check`]). It opens no browser by
+//! itself.
 //!
 //! The page's files are built into the lab (`include_bytes!`), so it serves what it was
 //! built with from any directory. Only the page's own origin may open the bridge: a
@@ -65,18 +67,25 @@ const FILES: [(&str, &str, &[u8]); 4] = [
     ),
 ];
 
-/// The request's head (up to the blank line, at most 16 KiB), without consuming it.
-fn peek_head(s: &TcpStream) -> std::io::Result<String> {
+/// The request's head (through the blank line, at most 16 KiB), without consuming it, and
+/// its length in bytes (what is to be consumed before the body).
+fn peek_head(s: &TcpStream) -> std::io::Result<(String, usize)> {
     let mut buf = vec![0u8; 16 * 1024];
     for _ in 0..200 {
         let n = s.peek(&mut buf)?;
-        let head = String::from_utf8_lossy(&buf[..n]).into_owned();
-        if n == 0 || head.contains("\r\n\r\n") || n == buf.len() {
-            return Ok(head);
+        let end = buf[..n]
+            .windows(4)
+            .position(|w| w == b"\r\n\r\n")
+            .map(|p| p + 4);
+        if let Some(end) = end {
+            return Ok((String::from_utf8_lossy(&buf[..end]).into_owned(), end));
+        }
+        if n == 0 || n == buf.len() {
+            return Ok((String::from_utf8_lossy(&buf[..n]).into_owned(), n));
         }
         std::thread::sleep(Duration::from_millis(5));
     }
-    Ok(String::new())
+    Ok((String::new(), 0))
 }
 
 fn respond(s: &mut TcpStream, status: &str, kind: &str, body: &[u8]) -> std::io::Result<()> {
@@ -92,16 +101,19 @@ fn respond(s: &mut TcpStream, status: &str, kind: &str, body: &[u8]) -> std::io:
 /// Serves one connection: a file, or the bridge.
 fn serve(mut s: TcpStream, port: u16, a: &Args) -> std::io::Result<()> {
     s.set_read_timeout(Some(Duration::from_secs(5)))?;
-    let head = peek_head(&s)?;
+    let (head, head_len) = peek_head(&s)?;
     let mut words = head.split_whitespace();
     let (method, path) = (words.next().unwrap_or(""), words.next().unwrap_or(""));
     let path = path.split('?').next().unwrap_or("");
     if path == "/ws" {
         return bridge_session(s, port, a);
     }
-    // Consume the head (a GET has no body) before answering.
-    let mut sink = vec![0u8; head.len()];
+    // Consume the head before answering.
+    let mut sink = vec![0u8; head_len];
     s.read_exact(&mut sink)?;
+    if path == "/check" && method == "POST" {
+        return check_request(&mut s, &head);
+    }
     match FILES.iter().find(|(p, _, _)| *p == path) {
         Some((_, kind, body)) if method == "GET" => respond(&mut s, "200 OK", kind, body),
         Some(_) => respond(
@@ -117,6 +129,72 @@ fn serve(mut s: TcpStream, port: u16, a: &Args) -> std::io::Result<()> {
             b"not part of the page\n",
         ),
     }
+}
+
+/// The most a check's recordings may take [bytes]: three steps of up to 60 s at 20 kHz as
+/// JSON (about 20 bytes a triple) fit 80 MB.
+const CHECK_BODY_MAX: usize = 80 << 20;
+
+/// What the page's guided check sends: the device's rate, scale, resolution and axis
+/// mapping, and the three steps' raw codes (at rest, moved right, moved away).
+#[derive(serde::Deserialize)]
+struct CheckRequest {
+    fs: f64,
+    m_s2_per_lsb: f64,
+    adc_bits: u8,
+    /// `(x_axis, x_sign, y_axis, y_sign)` of the running profile.
+    current: (usize, f64, usize, f64),
+    steps: [Vec<[u16; 3]>; 3],
+}
+
+/// `POST /check`: the page's three recordings judged by `cargo lab device check`'s rules
+/// ([`crate::device::check`]), answered as its JSON with the chart's SVG.
+fn check_request(s: &mut TcpStream, head: &str) -> std::io::Result<()> {
+    let len = head
+        .lines()
+        .find_map(|l| {
+            let (k, v) = l.split_once(':')?;
+            k.trim()
+                .eq_ignore_ascii_case("content-length")
+                .then(|| v.trim().parse::<usize>().ok())?
+        })
+        .unwrap_or(0);
+    if len == 0 || len > CHECK_BODY_MAX {
+        let why = format!("a check needs its recordings (1 to {CHECK_BODY_MAX} bytes)\n");
+        return respond(s, "413 Payload Too Large", "text/plain", why.as_bytes());
+    }
+    let mut body = vec![0u8; len];
+    s.set_read_timeout(Some(Duration::from_secs(30)))?;
+    s.read_exact(&mut body)?;
+    let req: CheckRequest = match serde_json::from_slice(&body) {
+        Ok(r) => r,
+        Err(e) => {
+            let why = format!("not a check request: {e}\n");
+            return respond(s, "400 Bad Request", "text/plain", why.as_bytes());
+        }
+    };
+    let valid = req.fs.is_finite()
+        && req.fs > 0.0
+        && req.m_s2_per_lsb.is_finite()
+        && req.m_s2_per_lsb > 0.0
+        && (2..=16).contains(&req.adc_bits)
+        && req.steps.iter().all(|st| !st.is_empty());
+    if !valid {
+        let why = b"a check needs a rate and a scale above 0, 2 to 16 bits and three recordings\n";
+        return respond(s, "400 Bad Request", "text/plain", why);
+    }
+    use crate::device::check;
+    let steps = [&req.steps[0][..], &req.steps[1][..], &req.steps[2][..]];
+    let judged = check::judge(steps, req.fs, req.m_s2_per_lsb, req.adc_bits, req.current);
+    let colors = [super::COLORS[0], super::COLORS[1], super::COLORS[2]];
+    let svg = check::chart(steps, req.fs, req.m_s2_per_lsb, &judged.rest, colors).to_svg();
+    let answer = serde_json::json!({ "check": judged, "svg": svg });
+    respond(
+        s,
+        "200 OK",
+        "application/json",
+        answer.to_string().as_bytes(),
+    )
 }
 
 /// The origins the page is served from on `port`.
