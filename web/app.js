@@ -78,22 +78,31 @@ class BridgeTransport {
     this.onclose = () => {};
   }
 
+  /** Resolves once the lab has opened the device (`link_ready`), rejects with its reason. */
   open() {
     return new Promise((resolve, reject) => {
       const ws = new WebSocket(this.url);
       ws.binaryType = "arraybuffer";
-      ws.onopen = () => resolve();
-      ws.onerror = () =>
-        reject(new Error(`no bridge at ${this.url}: is \`cargo lab ui\` running?`));
+      let ready = false;
+      ws.onerror = () => {
+        if (!ready) reject(new Error(`no bridge at ${this.url}: is \`cargo lab ui\` running?`));
+      };
       ws.onmessage = (m) => {
-        if (typeof m.data === "string") {
-          const said = JSON.parse(m.data);
-          this.onclose(said.link_error);
+        if (typeof m.data !== "string") return this.onframe(new Uint8Array(m.data));
+        const said = JSON.parse(m.data);
+        if (said.link_ready) {
+          ready = true;
+          resolve();
+        } else if (!ready) {
+          reject(new Error(said.link_error));
         } else {
-          this.onframe(new Uint8Array(m.data));
+          this.onclose(said.link_error);
         }
       };
-      ws.onclose = () => this.onclose(null);
+      ws.onclose = () => {
+        if (ready) this.onclose(null);
+        else reject(new Error("the lab closed the bridge"));
+      };
       this.ws = ws;
     });
   }
@@ -259,30 +268,49 @@ async function connect(transport, how) {
   const session = new Session(state.protocol, transport);
   transport.onclose = (why) => {
     if (state.session !== session) return;
-    state.session = null;
-    state.check = null;
-    connected(false);
+    ended();
     status(why ? `Disconnected: ${why}` : "Disconnected.", Boolean(why));
   };
   session.onstream = live;
   state.session = session;
   connected(true);
   try {
-    await refresh();
+    const info = await refresh();
+    // A stream an earlier page left running (a reload, a lost connection) is stopped
+    // first, so that this page's counts start from its own Start.
+    if (info.streaming) {
+      await session.request("STREAM_STOP");
+      await refresh();
+    }
     await loadSettings();
     status(`Connected ${how}.`);
   } catch (e) {
-    status(e.message, true);
+    ended();
+    transport.close();
+    status(`Could not connect ${how}: ${e.message}`, true);
   }
 }
 
-function disconnect() {
+/** What a connection's end ends: a recording (kept for download), a check, the stream. */
+function ended() {
+  if (state.recording) recordStop(" (ended by the disconnection)");
+  if (state.check) {
+    state.check.failed("the connection ended");
+    state.check = null;
+  }
+  state.streaming = false;
+  state.tracking = false;
+  state.session = null;
+  connected(false);
+}
+
+async function disconnect() {
   const s = state.session;
   if (!s) return;
-  state.session = null;
-  state.check = null;
+  // A stream is stopped before the page lets the device go (best effort).
+  if (state.streaming) await s.request("STREAM_STOP").catch(() => {});
+  ended();
   s.t.close();
-  connected(false);
   status("Disconnected.");
 }
 
@@ -323,6 +351,7 @@ async function refresh() {
       ? calibration.map((a, k) => ["XYZ"[k], a.bias_lsb.toFixed(2), a.noise_lsb.toFixed(3)])
       : [["-", "not calibrated yet", ""]],
   );
+  return info;
 }
 
 async function loadSettings() {
@@ -375,6 +404,9 @@ function changes(texts) {
     if (r.error) {
       fieldError(k.name, `${k.name} ${r.error}`);
       ok = false;
+    } else if (k.kind === "integer" && !Number.isInteger(r.value)) {
+      fieldError(k.name, `${k.name} must be a whole number (it takes ${k.takes})`);
+      ok = false;
     } else {
       pairs.push([k.id, r.value === null ? NaN : r.value]);
     }
@@ -387,6 +419,10 @@ async function applyTexts(texts) {
   const pairs = changes(texts);
   if (pairs === null) return status("A value does not read; see its field.", true);
   if (pairs.length === 0) return status("Nothing changed.");
+  const rate = state.table.find((k) => k.name === "fs_hz");
+  if (state.recording && pairs.some(([id]) => id === rate.id)) {
+    recordStop(" (ended: the rate changed)");
+  }
   const refused = await state.session.set(pairs);
   if (refused) {
     if (refused.key) {
@@ -396,7 +432,13 @@ async function applyTexts(texts) {
         return p ? p[1] : k.value;
       });
       const k = state.protocol.keys(tried).find((e) => e.name === refused.key);
-      fieldError(refused.key, `refused by the device: ${k.name} takes ${k.takes}: ${k.about}`);
+      // "unsupported": within the key's range, but not a value this board can run (a rate
+      // its timer does not divide exactly).
+      const cannot = refused.code === "unsupported" ? "the board cannot run this value; " : "";
+      fieldError(
+        refused.key,
+        `refused by the device: ${cannot}${k.name} takes ${k.takes}: ${k.about}`,
+      );
       status(`The device refused ${refused.key}; nothing was changed.`, true);
     } else {
       status(`The device refused the change (${refused.code}); nothing was changed.`, true);
@@ -405,6 +447,7 @@ async function applyTexts(texts) {
   }
   await loadSettings();
   await refresh();
+  restartTracker();
   status(`Applied ${pairs.length} setting(s); Save keeps them.`);
 }
 
@@ -454,11 +497,18 @@ async function importProfile(file) {
   } catch (e) {
     return status(`${file.name} is not JSON: ${e.message}`, true);
   }
+  if (obj === null || typeof obj !== "object" || Array.isArray(obj)) {
+    return status(`${file.name} is not a profile: an object of KEY: value was expected`, true);
+  }
   const names = new Set(state.table.map((k) => k.name));
   const unknown = Object.keys(obj).filter((n) => !names.has(n));
   if (unknown.length) return status(`${file.name}: unknown key(s) ${unknown.join(", ")}`, true);
   const texts = new Map();
   for (const [name, v] of Object.entries(obj)) {
+    // As `config set --file` reads them: a number, null (off), true/false, or a word.
+    if (v !== null && !["number", "boolean", "string"].includes(typeof v)) {
+      return status(`${file.name}: ${name}: ${JSON.stringify(v)} is not a value a key takes`, true);
+    }
     texts.set(name, v === null || v === false ? "off" : v === true ? "on" : String(v));
   }
   await applyTexts(texts);
@@ -567,6 +617,14 @@ function draw() {
   g.fillText(`+-${top.toPrecision(2)} m/s^2, 2 s`, 60, 14);
 }
 
+/** The page's tracker anew, with the running settings, while a stream runs. */
+function restartTracker() {
+  if (!state.streaming) return;
+  state.tracking = state.protocol.trackStart(state.values);
+  state.path = [[0, 0]];
+  state.track = null;
+}
+
 async function stream(on) {
   const r = await state.session.request(on ? "STREAM_START" : "STREAM_STOP");
   if (r.error) return status(`The device refused the stream: ${r.error.code}`, true);
@@ -575,15 +633,16 @@ async function stream(on) {
     state.live = { codes: [], lost: 0, frames: 0, seq: null };
     // The device's tracker, from this stream's first sample (as `cargo lab replay` of a
     // recording started with it).
-    state.tracking = state.protocol.trackStart(state.values);
-    state.path = [[0, 0]];
-    state.track = null;
+    restartTracker();
   }
+  // The device panel's counters and state as they are now.
+  if (!on) await refresh();
   status(on ? "Streaming." : `Stream stopped: ${r.stopped.frames} frames, ${r.stopped.lost} lost.`);
 }
 
 function recordStart() {
   state.recording = [];
+  state.recordingLost = state.live.lost;
   $("rec-start").disabled = true;
   $("rec-stop").disabled = false;
   if (!state.streaming) stream(true);
@@ -603,15 +662,16 @@ function recordingCsv(samples) {
   return lines.join("\n") + "\n";
 }
 
-function recordStop() {
+function recordStop(why = "") {
   const samples = state.recording ?? [];
+  const lost = state.live.lost - (state.recordingLost ?? 0);
   state.recording = null;
   $("rec-start").disabled = false;
   $("rec-stop").disabled = true;
   const link = $("rec-download");
   link.href = URL.createObjectURL(new Blob([recordingCsv(samples)], { type: "text/csv" }));
   link.download = "imu-mouse-recording.csv";
-  link.textContent = `Download the recording (${samples.length} samples, ${state.live.lost} frames lost)`;
+  link.textContent = `Download the recording (${samples.length} samples, ${lost} frames lost)${why}`;
   link.hidden = false;
 }
 
@@ -651,8 +711,8 @@ async function runCheck() {
   $("check-plot").hidden = true;
   $("check-start").disabled = true;
   const lostBefore = state.streaming ? state.live.lost : 0;
-  const finished = new Promise((done) => {
-    state.check = { step: 0, steps: [[], [], []], done };
+  const finished = new Promise((done, failed) => {
+    state.check = { step: 0, steps: [[], [], []], done, failed: (why) => failed(new Error(why)) };
   });
   checkPrompt();
   try {
@@ -660,8 +720,9 @@ async function runCheck() {
     await finished;
   } catch (e) {
     state.check = null;
-    $("check-start").disabled = false;
-    throw e;
+    $("check-step").textContent = `The check was interrupted: ${e.message}.`;
+    $("check-start").disabled = !state.session;
+    return;
   }
   const steps = state.check.steps;
   state.check = null;

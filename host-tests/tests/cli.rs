@@ -1240,7 +1240,13 @@ fn the_settings_page_server_serves_its_files_and_refuses_what_is_not_its_own() {
     assert!(page.starts_with("HTTP/1.1 200 OK"), "{page}");
     assert!(page.contains("<title>imu-mouse settings</title>"), "{page}");
     assert!(get("/imu_protocol.wasm").contains("Content-Type: application/wasm"));
+    assert!(get("/index.html").contains("<title>imu-mouse settings</title>"));
     assert!(get("/../Cargo.toml").starts_with("HTTP/1.1 404"));
+    let head = http(port, "HEAD / HTTP/1.1\r\nHost: x\r\n\r\n");
+    assert!(
+        head.starts_with("HTTP/1.1 200 OK") && head.ends_with("\r\n\r\n"),
+        "{head}"
+    );
     // The bridge only for the page's own origin: another site's page is refused.
     let upgrade = |origin: &str| {
         http(
@@ -1267,12 +1273,18 @@ fn the_settings_page_server_serves_its_files_and_refuses_what_is_not_its_own() {
         )
     };
     assert!(post("{}").starts_with("HTTP/1.1 400"));
+    assert!(post("").starts_with("HTTP/1.1 400"));
     let empty =
         r#"{"fs":3000,"m_s2_per_lsb":0.024,"adc_bits":12,"current":[0,1,1,1],"steps":[[],[],[]]}"#;
     assert!(post(empty).starts_with("HTTP/1.1 400"));
     let still = format!(
         r#"{{"fs":1000,"m_s2_per_lsb":0.0239,"adc_bits":12,"current":[0,1,1,1],"steps":[{s},{s},{s}]}}"#,
         s = format!("[{}]", vec!["[2048,2049,2458]"; 1000].join(","))
+    );
+    // An axis map no profile has, and codes a 12-bit ADC cannot give: refused, not judged.
+    assert!(post(&still.replace("[0,1,1,1]", "[9,7,1,1]")).starts_with("HTTP/1.1 400"));
+    assert!(
+        post(&still.replace("[2048,2049,2458]", "[5000,2049,2458]")).starts_with("HTTP/1.1 400")
     );
     let judged = post(&still);
     assert!(judged.starts_with("HTTP/1.1 200 OK"), "{judged}");

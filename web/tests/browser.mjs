@@ -136,6 +136,19 @@ try {
   const takes = await page.$eval("#settings tbody tr td:nth-child(3)", (td) => td.textContent);
   check(/Hz$/.test(takes), `fs_hz says what it takes (${takes})`);
 
+  // A second tab while the first holds the device: told why, and left not connected.
+  const second = await context.newPage();
+  await second.goto(url);
+  await second.waitForSelector("body[data-ready=true]");
+  await second.click("#connect-bridge");
+  await second.waitForFunction(
+    () => /no other host attached/.test(document.getElementById("status").textContent),
+    null,
+    { timeout: 15000 },
+  );
+  check(await second.isEnabled("#connect-bridge"), "a second tab is told the device is busy");
+  await second.close();
+
   // A change on the page is read back by the CLI.
   const cpi = before.counts_per_inch === 1200 ? 1000 : 1200;
   await page.fill("#key-counts_per_inch", String(cpi));
@@ -180,6 +193,10 @@ try {
   writeFileSync(changed, JSON.stringify({ ...profile, counts_per_inch: 900, drift: false }));
   await page.setInputFiles("#import", changed);
   await waitStatus(/^Applied 2 setting/);
+  const notProfile = join(tmpdir(), `imu-ui-array-${process.pid}.json`);
+  writeFileSync(notProfile, "[1, 2]");
+  await page.setInputFiles("#import", notProfile);
+  await waitStatus(/is not a profile: an object of KEY: value was expected$/);
   await page.click("#disconnect");
   await released(3);
   const imported = configGet();
@@ -263,6 +280,19 @@ try {
   await page.click("#disconnect");
   await released(5);
 
+  // A disconnection mid-recording ends the recording and keeps it; the stream is stopped, so
+  // the next page finds none running.
+  await page.click("#connect-bridge");
+  await waitStatus(/^Connected/);
+  await page.click("#rec-start");
+  await page.waitForTimeout(500);
+  await page.click("#disconnect");
+  await released(6);
+  const kept = await page.textContent("#rec-download");
+  check(/samples, 0 frames lost\) \(ended by the disconnection\)$/.test(kept), `kept: ${kept}`);
+  const info = JSON.parse(execFileSync(lab, ["device", "--twin", twinAddr, "--json", "info"]));
+  check(info.streaming === false, "the stream was stopped");
+
   // WebHID through a stand-in navigator.hid that forwards reports to the bridge.
   const hid = await context.newPage();
   hid.on("console", (m) => m.type() === "error" && problems.push(`console (hid): ${m.text()}`));
@@ -272,13 +302,20 @@ try {
       async open() {
         this.ws = new WebSocket(`ws://${location.host}/ws`);
         this.ws.binaryType = "arraybuffer";
-        this.ws.onmessage = (m) => {
-          const e = new Event("inputreport");
-          e.data = new DataView(m.data);
-          e.reportId = 0;
-          this.dispatchEvent(e);
-        };
-        await new Promise((ok) => (this.ws.onopen = ok));
+        // The device is open once the bridge says so; its text messages are the bridge's,
+        // not reports.
+        await new Promise((ok, fail) => {
+          this.ws.onmessage = (m) => {
+            if (typeof m.data === "string") {
+              const said = JSON.parse(m.data);
+              return said.link_ready ? ok() : fail(new Error(said.link_error));
+            }
+            const e = new Event("inputreport");
+            e.data = new DataView(m.data);
+            e.reportId = 0;
+            this.dispatchEvent(e);
+          };
+        });
         this.opened = true;
       }
       async sendReport(id, data) {
@@ -309,7 +346,7 @@ try {
     "WebHID (stand-in): the settings show",
   );
   await hid.click("#disconnect");
-  await released(6);
+  await released(7);
   // The tracker on the stream: a second twin playing the desk scene. The page's cursor
   // total over a recording started with the stream equals `cargo lab replay`'s of it (the
   // same core on the same samples), and drift control's states show as they change.

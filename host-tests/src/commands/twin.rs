@@ -46,7 +46,8 @@ pub struct Args {
     #[arg(long)]
     pub flash: Option<std::path::PathBuf>,
     /// Play the scene or recording again and again, serving until Ctrl-C (without it the
-    /// twin goes away when the scene has played).
+    /// twin goes away when the scene has played). The first host must still come within
+    /// `--wait-host`.
     #[arg(long)]
     pub repeat: bool,
     /// The device's USB serial number (`cargo lab device list` shows it; a board's is its

@@ -44,9 +44,14 @@ pub struct Args {
 }
 
 /// The page's files: path, content type, bytes.
-const FILES: [(&str, &str, &[u8]); 4] = [
+const FILES: [(&str, &str, &[u8]); 5] = [
     (
         "/",
+        "text/html; charset=utf-8",
+        include_bytes!("../../../web/index.html"),
+    ),
+    (
+        "/index.html",
         "text/html; charset=utf-8",
         include_bytes!("../../../web/index.html"),
     ),
@@ -98,6 +103,14 @@ fn respond(s: &mut TcpStream, status: &str, kind: &str, body: &[u8]) -> std::io:
     s.write_all(body)
 }
 
+/// A 200's head for a body of `len` bytes of `kind`.
+fn respond_head(kind: &str, len: usize) -> String {
+    format!(
+        "HTTP/1.1 200 OK\r\nContent-Type: {kind}\r\nContent-Length: {len}\r\n\
+         Cache-Control: no-store\r\nConnection: close\r\n\r\n"
+    )
+}
+
 /// Serves one connection: a file, or the bridge.
 fn serve(mut s: TcpStream, port: u16, a: &Args) -> std::io::Result<()> {
     s.set_read_timeout(Some(Duration::from_secs(5)))?;
@@ -116,6 +129,11 @@ fn serve(mut s: TcpStream, port: u16, a: &Args) -> std::io::Result<()> {
     }
     match FILES.iter().find(|(p, _, _)| *p == path) {
         Some((_, kind, body)) if method == "GET" => respond(&mut s, "200 OK", kind, body),
+        // HEAD: the headers a GET would get (its length included), no body.
+        Some((_, kind, body)) if method == "HEAD" => {
+            let head = respond_head(kind, body.len());
+            s.write_all(head.as_bytes())
+        }
         Some(_) => respond(
             &mut s,
             "405 Method Not Allowed",
@@ -159,8 +177,16 @@ fn check_request(s: &mut TcpStream, head: &str) -> std::io::Result<()> {
                 .then(|| v.trim().parse::<usize>().ok())?
         })
         .unwrap_or(0);
-    if len == 0 || len > CHECK_BODY_MAX {
-        let why = format!("a check needs its recordings (1 to {CHECK_BODY_MAX} bytes)\n");
+    if len == 0 {
+        return respond(
+            s,
+            "400 Bad Request",
+            "text/plain",
+            b"a check needs its recordings\n",
+        );
+    }
+    if len > CHECK_BODY_MAX {
+        let why = format!("a check's recordings take at most {CHECK_BODY_MAX} bytes\n");
         return respond(s, "413 Payload Too Large", "text/plain", why.as_bytes());
     }
     let mut body = vec![0u8; len];
@@ -173,14 +199,26 @@ fn check_request(s: &mut TcpStream, head: &str) -> std::io::Result<()> {
             return respond(s, "400 Bad Request", "text/plain", why.as_bytes());
         }
     };
+    let (x, xs, y, ys) = req.current;
+    let top = (1u32 << req.adc_bits.clamp(2, 16)) - 1;
     let valid = req.fs.is_finite()
         && req.fs > 0.0
         && req.m_s2_per_lsb.is_finite()
         && req.m_s2_per_lsb > 0.0
         && (2..=16).contains(&req.adc_bits)
-        && req.steps.iter().all(|st| !st.is_empty());
+        && x <= 2
+        && y <= 2
+        && [xs, ys].iter().all(|s| s.abs() == 1.0)
+        && req.steps.iter().all(|st| !st.is_empty())
+        && req
+            .steps
+            .iter()
+            .flatten()
+            .flatten()
+            .all(|&c| u32::from(c) <= top);
     if !valid {
-        let why = b"a check needs a rate and a scale above 0, 2 to 16 bits and three recordings\n";
+        let why = b"a check needs a rate and a scale above 0, 2 to 16 bits, axes 0..=2 with \
+            signs +-1, and three recordings of codes the ADC can give\n";
         return respond(s, "400 Bad Request", "text/plain", why);
     }
     use crate::device::check;
@@ -234,16 +272,23 @@ fn bridge_session(s: TcpStream, port: u16, a: &Args) -> std::io::Result<()> {
         }
     };
     let timeout = Duration::from_secs_f64(a.timeout);
+    // The page waits for this before its first request, and shows a failure's reason.
+    let ready = |ws: &mut tungstenite::WebSocket<TcpStream>| {
+        ws.send(tungstenite::Message::text("{\"link_ready\":true}"))
+            .map_err(|e| e.to_string())
+    };
     let ended = match a.twin {
         Some(addr) => match UsbIpHost::connect(addr, BUSID, timeout) {
-            Ok(mut host) => bridge::run(&mut ws, &mut host).map_err(|e| e.to_string()),
+            Ok(mut host) => ready(&mut ws)
+                .and_then(|()| bridge::run(&mut ws, &mut host).map_err(|e| e.to_string())),
             Err(e) => Err(format!(
                 "the twin at {addr}: {e} (is `cargo lab twin` running, and no other host \
                  attached to it?)"
             )),
         },
         None => match HidLink::open(a.serial.as_deref()) {
-            Ok(mut hid) => bridge::run(&mut ws, &mut hid).map_err(|e| e.to_string()),
+            Ok(mut hid) => ready(&mut ws)
+                .and_then(|()| bridge::run(&mut ws, &mut hid).map_err(|e| e.to_string())),
             Err(e) => Err(format!("no board: {e}")),
         },
     };
