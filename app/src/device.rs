@@ -8,7 +8,9 @@
 //! tracker at every accepted rate: a board configuration that would fail at boot fails the
 //! build or the tests instead.
 
-use imu_core::profile::{Key, Profile, Range};
+use core::fmt;
+
+use imu_core::profile::{Key, Kind, Profile, Range, SCHEMES};
 use imu_core::protocol::Source;
 use imu_core::Config;
 
@@ -51,6 +53,38 @@ pub fn range(profile: &Profile, key: Key) -> Option<Range> {
         Key::FsHz => Some(Range::within(f64::from(FS_MIN_HZ), f64::from(FS_MAX_HZ))),
         Key::AdcBits => Some(Range::within(f64::from(ADC_BITS), f64::from(ADC_BITS))),
         _ => profile.range(key),
+    }
+}
+
+/// What `key` takes on this device with the rest of `profile`, as a user writes it: its
+/// [`range`] (with the key's unit after it when `unit` is asked for, and `, or off` for a key
+/// that may be off), or its words (`on, off`; `euler, trapezoid`), or `1, -1` for a sign.
+/// `cargo lab device` and the settings page both say it so.
+///
+/// # Errors
+/// Only `out`'s own.
+pub fn takes(out: &mut impl fmt::Write, profile: &Profile, key: Key, unit: bool) -> fmt::Result {
+    match (key.kind(), range(profile, key)) {
+        (Kind::Flag, _) => out.write_str("on, off"),
+        (Kind::Sign, _) => out.write_str("1, -1"),
+        _ if key == Key::Scheme => {
+            for (i, w) in SCHEMES.iter().enumerate() {
+                out.write_str(if i > 0 { ", " } else { "" })?;
+                out.write_str(w)?;
+            }
+            Ok(())
+        }
+        (kind, Some(r)) => {
+            write!(out, "{r}")?;
+            if unit && !key.unit().is_empty() {
+                write!(out, " {}", key.unit())?;
+            }
+            if kind == Kind::Optional {
+                out.write_str(", or off")?;
+            }
+            Ok(())
+        }
+        (_, None) => Ok(()),
     }
 }
 

@@ -146,3 +146,25 @@ fn the_device_s_key_table_is_the_core_s_narrowed_to_the_board() {
         }
     }
 }
+
+#[test]
+fn what_a_key_takes_is_said_as_a_user_writes_it() {
+    use imu_core::profile::{Key, Profile};
+    let p = Profile::default();
+    let takes = |k, unit| {
+        let mut s = String::new();
+        device::takes(&mut s, &p, k, unit).expect("a String takes any text");
+        s
+    };
+    assert_eq!(takes(Key::FsHz, true), "100..=20000 Hz");
+    assert_eq!(takes(Key::FsHz, false), "100..=20000");
+    assert_eq!(takes(Key::XAxis, true), "0..=2");
+    let off = takes(Key::LowpassFcHz, true);
+    assert!(
+        off.starts_with("0.003 to below 1500 Hz") && off.ends_with(", or off"),
+        "{off}"
+    );
+    assert_eq!(takes(Key::Drift, true), "on, off");
+    assert_eq!(takes(Key::Scheme, true), "euler, trapezoid");
+    assert_eq!(takes(Key::XSign, true), "1, -1");
+}

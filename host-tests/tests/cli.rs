@@ -1044,20 +1044,7 @@ fn a_repeating_twin_serves_past_the_end_of_its_scene() {
         assert_eq!(set.status.code(), Some(0), "{}", text(&set.stderr));
         let started = std::time::Instant::now();
         let file = std::env::temp_dir().join(format!("imu-cli-{}-{fs}.csv", std::process::id()));
-        let rec = lab()
-            .args([
-                "device",
-                "--twin",
-                &addr,
-                "--json",
-                "record",
-                "--seconds",
-                "1",
-                "--out",
-            ])
-            .arg(&file)
-            .output()
-            .expect("records");
+        let rec = record_on(&addr, true, "1", &file);
         let took = started.elapsed().as_secs_f64();
         let v: serde_json::Value = serde_json::from_slice(&rec.stdout).expect("JSON");
         assert_eq!(v["samples"].to_string(), fs, "{v}");
@@ -1067,6 +1054,16 @@ fn a_repeating_twin_serves_past_the_end_of_its_scene() {
     }
     twin.kill().expect("the twin stops");
     twin.wait().expect("reaped");
+}
+
+/// `cargo lab device --twin ADDR [--json] record --seconds S --out FILE`.
+fn record_on(addr: &str, json: bool, seconds: &str, file: &Path) -> Output {
+    let mut args = vec!["device", "--twin", addr];
+    if json {
+        args.push("--json");
+    }
+    args.extend(["record", "--seconds", seconds, "--out"]);
+    lab().args(args).arg(file).output().expect("records")
 }
 
 /// `cargo lab device --twin ADDR [--json] check --out DIR`.
@@ -1124,19 +1121,7 @@ fn a_device_check_whose_rest_holds_a_stroke_says_so_first() {
     // check's rest step over 4.x-8.x s of it, across the move right at 6.5-7.0 s.
     let (mut twin, addr) = start_twin(&["--scene", "check", "--repeat"]);
     let file = std::env::temp_dir().join(format!("imu-cli-{}-early.csv", std::process::id()));
-    let rec = lab()
-        .args([
-            "device",
-            "--twin",
-            &addr,
-            "record",
-            "--seconds",
-            "4",
-            "--out",
-        ])
-        .arg(&file)
-        .output()
-        .expect("records");
+    let rec = record_on(&addr, false, "4", &file);
     assert_eq!(rec.status.code(), Some(0), "{}", text(&rec.stderr));
     let out = check_on(&addr, true, "target/lab/cli-check-moved");
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));

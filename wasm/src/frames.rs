@@ -4,7 +4,7 @@
 use core::fmt::{self, Write};
 
 use imu_core::profile::Key;
-use imu_core::protocol::{code, ErrorCode, Frame, Request, Response, Source, StreamFrame};
+use imu_core::protocol::{code, ErrorCode, Request, Response, Source, StreamFrame};
 
 use crate::json::Json;
 
@@ -194,11 +194,6 @@ pub fn decode(j: &mut Json<'_>, frame: &[u8]) -> fmt::Result {
     }
 }
 
-/// `r` encoded with `tag`.
-pub fn encode(r: &Request, tag: u8) -> Frame {
-    r.encode(tag)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -215,7 +210,7 @@ mod tests {
     #[test]
     fn requests_are_the_cores_frames() {
         let r = request(code::SET_CONFIG, 1, &[(5.0, 1600.0)]).expect("a request");
-        let (tag, back) = Request::decode(&encode(&r, 9)).expect("decodes");
+        let (tag, back) = Request::decode(&r.encode(9)).expect("decodes");
         assert_eq!(tag, 9);
         assert_eq!(back, r);
         // A fraction, an unknown id, seven pairs, an unknown code: no frame.

@@ -5,7 +5,7 @@
 
 use core::fmt::{self, Write};
 
-use imu_core::profile::{Key, Kind, Profile, Shown};
+use imu_core::profile::{Key, Kind, Profile};
 
 use crate::json::Json;
 
@@ -28,28 +28,6 @@ pub fn show(out: &mut impl Write, key: Key, v: f64) -> fmt::Result {
     }
 }
 
-/// What `key` takes in profile `p`, as `cargo lab device config get` says it: a range with
-/// its unit, `, or off` for an optional key, the words of a word key.
-pub fn takes(out: &mut impl Write, p: &Profile, key: Key) -> fmt::Result {
-    let range = imu_app::device::range(p, key);
-    match (key.kind(), range) {
-        (Kind::Flag, _) => out.write_str("on, off"),
-        (Kind::Sign, _) => out.write_str("1, -1"),
-        _ if key == Key::Scheme => out.write_str("euler, trapezoid"),
-        (kind, Some(r)) => {
-            write!(out, "{r}")?;
-            if !key.unit().is_empty() {
-                write!(out, " {}", key.unit())?;
-            }
-            if kind == Kind::Optional {
-                out.write_str(", or off")?;
-            }
-            Ok(())
-        }
-        (_, None) => Ok(()),
-    }
-}
-
 /// A text of at most 160 bytes (a range, a shown value) for the JSON writer.
 struct Text(heapless::String<160>);
 
@@ -67,7 +45,7 @@ fn text(f: impl FnOnce(&mut Text) -> fmt::Result) -> Result<Text, fmt::Error> {
 
 /// The key table of profile `p` as a JSON array: per key `id`, `name`, `unit`, `about`,
 /// `kind` (`integer`, `real`, `optional`, `flag`, `sign`, or `word` for the scheme), `words`
-/// (what a word key takes), `takes` (as the CLI says it), `value` (a number, `null` for off)
+/// (what a word key takes), `takes` (`imu_app::device::takes`, as the CLI says it), `value` (a number, `null` for off)
 /// and `shown` (as a user types it).
 pub fn table(j: &mut Json<'_>, p: &Profile) -> fmt::Result {
     j.raw("[")?;
@@ -108,7 +86,7 @@ pub fn table(j: &mut Json<'_>, p: &Profile) -> fmt::Result {
         }
         j.raw("],")?;
         j.key("takes")?;
-        j.string(&text(|t| takes(t, p, key))?.0)?;
+        j.string(&text(|t| imu_app::device::takes(t, p, key, true))?.0)?;
         j.raw(",")?;
         j.key("value")?;
         j.number(v)?;
@@ -118,11 +96,6 @@ pub fn table(j: &mut Json<'_>, p: &Profile) -> fmt::Result {
         j.raw("}")?;
     }
     j.raw("]")
-}
-
-/// `Shown`, re-exported for the page's messages (numbers as a person reads them).
-pub fn shown(out: &mut impl Write, v: f64) -> fmt::Result {
-    write!(out, "{}", Shown(v))
 }
 
 #[cfg(test)]

@@ -100,7 +100,7 @@ pub extern "C" fn encode_request(code: u32, tag: u32, arg: u32, n: u32) -> u32 {
         let pairs: heapless::Vec<(f64, f64), 32> =
             v.chunks_exact(2).map(|p| (p[0], p[1])).collect();
         let r = frames::request(u8::try_from(code).ok()?, arg, &pairs)?;
-        let frame = frames::encode(&r, u8::try_from(tag).ok()?);
+        let frame = r.encode(u8::try_from(tag).ok()?);
         out[..FRAME_LEN].copy_from_slice(&frame);
         Some(FRAME_LEN)
     })

@@ -12,7 +12,7 @@ use imu_core::protocol::{ErrorCode, Info, Source};
 use serde::Serialize;
 
 use crate::device::client::{Client, ClientError, Found, HidLink, Link, Recorded};
-use crate::device::profile::{self, profile_of, show, SCHEMES};
+use crate::device::profile::{self, profile_of, show};
 use crate::device::usbip::BUSID;
 use crate::device::usbip_host::{UsbIpError, UsbIpHost};
 use crate::formats::recording;
@@ -267,20 +267,10 @@ fn info<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
 /// What `key` takes on this device with the rest of `p`, as a user writes it, with the
 /// unit after the numbers when `unit` is asked for.
 fn takes(p: &Profile, key: Key, unit: bool) -> String {
-    let unit = if unit && !key.unit().is_empty() {
-        format!(" {}", key.unit())
-    } else {
-        String::new()
-    };
-    let range = imu_app::device::range(p, key).map(|r| format!("{r}{unit}"));
-    match (key.kind(), range) {
-        (Kind::Flag, _) => "on, off".into(),
-        (Kind::Sign, _) => "1, -1".into(),
-        _ if key == Key::Scheme => SCHEMES.join(", "),
-        (Kind::Optional, Some(r)) => format!("{r}, or off"),
-        (_, Some(r)) => r,
-        (_, None) => String::new(),
-    }
+    let mut s = String::new();
+    // Writing into a String cannot fail.
+    let _ = imu_app::device::takes(&mut s, p, key, unit);
+    s
 }
 
 /// A value as JSON: a number, `null` for off, `true`/`false` for a flag, a word for the

@@ -94,19 +94,14 @@ fn peek_head(s: &TcpStream) -> std::io::Result<(String, usize)> {
 }
 
 fn respond(s: &mut TcpStream, status: &str, kind: &str, body: &[u8]) -> std::io::Result<()> {
-    write!(
-        s,
-        "HTTP/1.1 {status}\r\nContent-Type: {kind}\r\nContent-Length: {}\r\n\
-         Cache-Control: no-store\r\nConnection: close\r\n\r\n",
-        body.len()
-    )?;
+    s.write_all(answer_head(status, kind, body.len()).as_bytes())?;
     s.write_all(body)
 }
 
-/// A 200's head for a body of `len` bytes of `kind`.
-fn respond_head(kind: &str, len: usize) -> String {
+/// An answer's head, for a body of `len` bytes of `kind` (a HEAD request gets it alone).
+fn answer_head(status: &str, kind: &str, len: usize) -> String {
     format!(
-        "HTTP/1.1 200 OK\r\nContent-Type: {kind}\r\nContent-Length: {len}\r\n\
+        "HTTP/1.1 {status}\r\nContent-Type: {kind}\r\nContent-Length: {len}\r\n\
          Cache-Control: no-store\r\nConnection: close\r\n\r\n"
     )
 }
@@ -131,8 +126,7 @@ fn serve(mut s: TcpStream, port: u16, a: &Args) -> std::io::Result<()> {
         Some((_, kind, body)) if method == "GET" => respond(&mut s, "200 OK", kind, body),
         // HEAD: the headers a GET would get (its length included), no body.
         Some((_, kind, body)) if method == "HEAD" => {
-            let head = respond_head(kind, body.len());
-            s.write_all(head.as_bytes())
+            s.write_all(answer_head("200 OK", kind, body.len()).as_bytes())
         }
         Some(_) => respond(
             &mut s,

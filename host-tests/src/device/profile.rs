@@ -4,8 +4,6 @@
 
 use imu_core::profile::{Key, Profile};
 
-pub use imu_core::profile::SCHEMES;
-
 /// A key's value as a user reads it, and writes it: [`read_pair`] takes it back exactly.
 pub fn show(key: Key, v: f64) -> String {
     match key.word(v) {
