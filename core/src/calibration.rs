@@ -19,14 +19,68 @@
 //!   `g2` and beyond negligible (the 50 Hz pole's correlation is 0.2 after one 5 ms tick,
 //!   below 0.01 after two).
 //!
-//! A window whose variance exceeds the bound had motion in it (or a tap on the desk); it is
-//! rejected as a whole, never averaged in. A window that touches either ADC rail (code `0` or
-//! `2^bits - 1`) is rejected as clipped: a clipped mean is not the bias.
+//! # Motion: the window against its own noise
+//! What spoils a zero is acceleration that does not average out over the window: the device
+//! pushed, held in a hand, tilted part-way through. All of it is slow (a hand moves below
+//! about 10 Hz, a tilt is a step), so it shows as **neighbouring means that agree more than
+//! noise lets them**. The window is cut into blocks of [`BLOCK_TICKS`] ticks (20 ms at 5 ms
+//! ticks; the noise of an ADXL335 through its 50 Hz pole is correlated over about 3 ms, so
+//! block sums of noise are nearly independent), and their von Neumann ratio
+//!
+//! ```text
+//! eta = sum_{j>1} (B[j] - B[j-1])^2 / (2 sum_j (B[j] - mean B)^2)
+//! ```
+//!
+//! is about 1 for noise of any size (`E eta = 1`, `Var eta = (k - 2) / ((k + 1)(k - 1))`
+//! for `k` independent Gaussian blocks), and falls towards 0 as slow motion fills the
+//! blocks: a window is **unsteady**, and rejected, when `eta` is below
+//! `1 - z sqrt(Var eta)` with `z` the normal quantile of [`FALSE_REFUSAL`] (0.572 for the
+//! 50 blocks of 1 s). So the test needs no noise figure of the sensor: a sensor ten times
+//! noisier than the ADXL335 calibrates as readily, and a quiet one is held to its own noise.
+//! What it catches, for blocks of sd `s` (1.5 mg for the ADXL335 at 3 kHz): a step (a tilt
+//! part-way) of about `1.7 s`, 2.6 mg or 0.015 degrees, where the old rms bound of 0.1 m/s^2
+//! let a whole degree through; motion below about 9 Hz (where `1 - cos(2 pi f 20 ms)` is
+//! under the bound) that carries most of the blocks' variance. What it lets through, by
+//! design: a knock's ring or a machine's vibration (20 Hz and up, which averages out of the
+//! zero) and a hand's tremor of a few mg (as small as the noise, and zero-mean). Neighbouring
+//! blocks of a real sensor's noise correlate a little (about 0.09 for the ADXL335's pole at
+//! 3 kHz), which lowers `eta`'s mean by as much: the false-refusal rate is measured on the
+//! sensor model (`host-tests/tests/calibration_motion.rs`).
+//! Windows of fewer than [`STEADY_BLOCKS_MIN`] blocks are not tested.
+//!
+//! A window whose variance exceeds the configured rms bound (a broken or floating input, a
+//! shaking hand) is rejected too, as a whole, never averaged in. A window that touches either
+//! ADC rail (code `0` or `2^bits - 1`) is rejected as clipped: a clipped mean is not the bias.
 
 use core::fmt;
 
 use crate::math;
 use crate::AdcCode;
+
+/// Ticks in a block of the motion test [ticks] (20 ms at 5 ms ticks, 40 ms at 100 Hz).
+pub const BLOCK_TICKS: u32 = 4;
+/// Fewest blocks in a window for the motion test to run [blocks]: no window of `k` blocks
+/// has a von Neumann ratio below `1 - cos(pi / k)` (a half cosine's), and from 13 blocks on
+/// the bound at [`FALSE_REFUSAL`] lies above that (0.048 against 0.029; at 12 blocks 0.017
+/// against 0.034), so below it the test could never refuse. A window under 13 blocks (260 ms
+/// at 5 ms ticks) has only the rms bound.
+pub const STEADY_BLOCKS_MIN: u32 = 13;
+/// Probability that a window of independent Gaussian noise is refused as unsteady, per
+/// calibration; it sets the motion test's `z` (3.72).
+pub const FALSE_REFUSAL: f64 = 1e-4;
+
+/// The motion test's bound on the von Neumann ratio for `blocks` blocks, in Q16
+/// (`0..=65536`): `1 - z sqrt((k - 2) / ((k + 1)(k - 1)))` with `z` the normal quantile of
+/// [`FALSE_REFUSAL`], floored at 0; 0 (no test) below [`STEADY_BLOCKS_MIN`] blocks.
+pub fn steady_min_q16(blocks: u32) -> u32 {
+    if blocks < STEADY_BLOCKS_MIN {
+        return 0;
+    }
+    let k = f64::from(blocks);
+    let sd = libm::sqrt((k - 2.0) / ((k + 1.0) * (k - 1.0)));
+    let eta = 1.0 - crate::drift::z_of_tail(FALSE_REFUSAL) * sd;
+    math::round_to_u64(eta.max(0.0) * 65_536.0) as u32
+}
 
 /// Result of a good calibration window for one axis.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,6 +116,14 @@ pub enum CalibrationError {
         /// The window's rms noise in Q16 counts.
         noise_rms_q16: u64,
     },
+    /// The window's 20 ms means agreed more than its noise lets them: slow motion or a step
+    /// (see the module docs).
+    Unsteady {
+        /// The window's von Neumann ratio in Q16 (`65536` is 1, the value at rest).
+        eta_q16: u32,
+        /// The bound it fell below, in Q16.
+        min_q16: u32,
+    },
     /// A sample sat on an ADC rail (code 0 or full scale): clipped or disconnected sensor.
     Clipped {
         /// The rail code seen.
@@ -76,6 +138,12 @@ impl fmt::Display for CalibrationError {
                 f,
                 "motion during calibration: rms {:.3} LSB is above the at-rest bound",
                 *noise_rms_q16 as f64 / 65_536.0
+            ),
+            Self::Unsteady { eta_q16, min_q16 } => write!(
+                f,
+                "motion during calibration: neighbouring 20 ms means agree too well (von Neumann ratio {:.2}, at rest about 1, below {:.2} is motion)",
+                f64::from(*eta_q16) / 65_536.0,
+                f64::from(*min_q16) / 65_536.0
             ),
             Self::Clipped { code } => write!(
                 f,
@@ -106,13 +174,31 @@ pub struct Calibrator {
     ticks: u32,
     ticks_sum: u64,
     ticks_lag: [u128; 4],
+    /// The motion test's bound (Q16, 0: no test), the current block's sum, complete blocks,
+    /// their sum, the first and the latest block, and the sums of squares and of
+    /// neighbours' products.
+    steady_min_q16: u32,
+    block_sum: u64,
+    blocks: u32,
+    blocks_sum: u64,
+    first_block: u64,
+    last_block: u64,
+    blocks_sq: u128,
+    blocks_lag: u128,
 }
 
 impl Calibrator {
     /// A calibrator for `window` samples (`2..=2^24`) that rejects a variance above
-    /// `var_max_q16` (LSB^2 in Q16) and any code at `0` or `2^adc_bits - 1`, and measures
-    /// the noise over ticks of `tick` samples (`1..=2^14`).
-    pub(crate) const fn new(window: u32, var_max_q16: u64, adc_bits: u8, tick: u32) -> Self {
+    /// `var_max_q16` (LSB^2 in Q16), any code at `0` or `2^adc_bits - 1`, and an unsteady
+    /// window (its von Neumann ratio below `steady_min_q16`, Q16; 0 for no test, see
+    /// [`steady_min_q16`]), and measures the noise over ticks of `tick` samples (`1..=2^14`).
+    pub(crate) const fn new(
+        window: u32,
+        var_max_q16: u64,
+        adc_bits: u8,
+        tick: u32,
+        steady_min_q16: u32,
+    ) -> Self {
         Self {
             window,
             var_max_q16,
@@ -128,6 +214,14 @@ impl Calibrator {
             ticks: 0,
             ticks_sum: 0,
             ticks_lag: [0; 4],
+            steady_min_q16,
+            block_sum: 0,
+            blocks: 0,
+            blocks_sum: 0,
+            first_block: 0,
+            last_block: 0,
+            blocks_sq: 0,
+            blocks_lag: 0,
         }
     }
 
@@ -172,7 +266,47 @@ impl Calibrator {
             self.ticks += 1;
             self.last_ticks = [self.last_ticks[1], self.last_ticks[2], t];
             self.tick_sum = 0;
+            self.block_sum += t; // <= BLOCK_TICKS 2^14 2^16 = 2^32
+            if self.ticks.is_multiple_of(BLOCK_TICKS) {
+                self.end_block();
+            }
         }
+    }
+
+    /// Adds the block just completed to the motion test's sums: each term below
+    /// `(n 2^16)^2 <= 2^80` in all.
+    fn end_block(&mut self) {
+        let b = core::mem::take(&mut self.block_sum);
+        if self.blocks == 0 {
+            self.first_block = b;
+        } else {
+            self.blocks_lag += u128::from(b) * u128::from(self.last_block);
+        }
+        self.blocks += 1;
+        self.blocks_sum += b;
+        self.blocks_sq += u128::from(b) * u128::from(b);
+        self.last_block = b;
+    }
+
+    /// The motion test: `Some(eta_q16)` if the blocks' von Neumann ratio is below the bound
+    /// (see the module docs), computed exactly as `k D 2^16 < eta_min 2 (k S2 - S1^2)` with
+    /// `D` the sum of squared neighbours' differences, `S1`, `S2` the blocks' sum and sum of
+    /// squares (every term below `2^98`).
+    fn unsteady(&self) -> Option<u32> {
+        if self.steady_min_q16 == 0 || self.blocks < STEADY_BLOCKS_MIN {
+            return None;
+        }
+        let k = u128::from(self.blocks);
+        let s1 = u128::from(self.blocks_sum);
+        let spread = k * self.blocks_sq - s1 * s1; // k^2 times the blocks' variance, >= 0
+        let ends = u128::from(self.first_block).pow(2) + u128::from(self.last_block).pow(2);
+        let diffs = 2 * self.blocks_sq - ends - 2 * self.blocks_lag; // >= 0
+        if spread == 0 {
+            return None; // a constant window: no motion in it
+        }
+        let lhs = (k * diffs) << 16;
+        let rhs = 2 * u128::from(self.steady_min_q16) * spread;
+        (lhs < rhs).then(|| (lhs / (2 * spread)).min(u128::from(u32::MAX)) as u32)
     }
 
     /// Empties the window.
@@ -182,6 +316,7 @@ impl Calibrator {
             self.var_max_q16,
             self.rail.count_ones() as u8,
             self.tick,
+            self.steady_min_q16,
         );
     }
 
@@ -189,7 +324,8 @@ impl Calibrator {
     ///
     /// # Errors
     /// [`CalibrationError::Clipped`] if a sample sat on a rail, [`CalibrationError::Motion`]
-    /// if the variance exceeds the bound.
+    /// if the variance exceeds the bound, [`CalibrationError::Unsteady`] if the window fails
+    /// the motion test.
     pub fn finish(&self) -> Result<Calibration, CalibrationError> {
         if let Some(code) = self.clipped {
             return Err(CalibrationError::Clipped { code });
@@ -202,6 +338,12 @@ impl Calibrator {
         let noise_rms_q16 = math::isqrt_u128((scatter << 32) / dof) as u64;
         if scatter << 16 > u128::from(self.var_max_q16) * dof {
             return Err(CalibrationError::Motion { noise_rms_q16 });
+        }
+        if let Some(eta_q16) = self.unsteady() {
+            return Err(CalibrationError::Unsteady {
+                eta_q16,
+                min_q16: self.steady_min_q16,
+            });
         }
         let bias_q16 = (((sum << 17) + n) / (2 * n)) as i64; // round half up of sum 2^16 / n
         let (tick_var_q32, long_run_var_q32) = self.tick_variances();
@@ -292,7 +434,7 @@ mod tests {
     use std::vec::Vec;
 
     fn cal(window: u32, var_max_lsb2: u64) -> Calibrator {
-        Calibrator::new(window, var_max_lsb2 << 16, 12, 2)
+        Calibrator::new(window, var_max_lsb2 << 16, 12, 2, 0)
     }
 
     #[test]
@@ -325,7 +467,7 @@ mod tests {
         // Ticks of 2 samples. Alternating: tick sums 4000 +- 2 in turn (g1 = -g0, g2 = g0):
         // the long-run variance g0 - 2 g0 + 2 g0 = g0. Correlated: tick sums in runs of four
         // (g1 = g0 / 2, g2 = 0 in the limit): long-run = 2 g0.
-        let mut c = Calibrator::new(4000, 100 << 16, 12, 2);
+        let mut c = Calibrator::new(4000, 100 << 16, 12, 2, 0);
         for i in 0..4000 {
             c.push(AdcCode(if (i / 2) % 2 == 0 { 2001 } else { 1999 }));
         }
@@ -335,7 +477,7 @@ mod tests {
         assert!((r.tick_var_q32 as f64 / 2f64.powi(32) - g0).abs() < 1e-6);
         let ratio = r.long_run_var_q32 as f64 / r.tick_var_q32 as f64;
         assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
-        let mut c = Calibrator::new(4000, 100 << 16, 12, 2);
+        let mut c = Calibrator::new(4000, 100 << 16, 12, 2, 0);
         for i in 0..4000 {
             c.push(AdcCode(if (i / 8) % 2 == 0 { 2001 } else { 1999 }));
         }
@@ -382,18 +524,163 @@ mod tests {
         (c[0].max(0.25), long.max(c[0] / 2.0).max(0.25))
     }
 
+    /// Marsaglia's xorshift64 from `state` (nonzero): the tests' random windows.
+    fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        }
+    }
+
+    /// The von Neumann ratio of the complete blocks of `tick * BLOCK_TICKS` samples, in f64.
+    fn eta_f64(codes: &[u16], tick: usize) -> f64 {
+        let b: Vec<f64> = codes
+            .chunks_exact(tick * BLOCK_TICKS as usize)
+            .map(|c| c.iter().map(|&x| f64::from(x)).sum())
+            .collect();
+        let mean = b.iter().sum::<f64>() / b.len() as f64;
+        let spread: f64 = b.iter().map(|x| (x - mean).powi(2)).sum();
+        let diffs: f64 = b.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum();
+        diffs / (2.0 * spread)
+    }
+
+    #[test]
+    fn the_motion_test_is_the_von_neumann_ratio_of_its_blocks() {
+        // Random windows (tick 1 to 60, 13 to 412 blocks and a partial one, white and walking
+        // codes, quiet and full range): with the bound at 4 every window is refused, and the
+        // ratio it reports is the f64 definition's, floored to Q16.
+        let mut next = xorshift(0x9E37_79B9_7F4A_7C15u64);
+        for case in 0..200 {
+            let tick = 1 + (next() % 60) as usize;
+            let blocks = STEADY_BLOCKS_MIN as usize + (next() % 400) as usize;
+            let n = tick * (BLOCK_TICKS as usize * blocks + (next() % 4) as usize);
+            let spread = [3, 40, 65_000][case % 3];
+            let mut level = 30_000i64;
+            let codes: Vec<u16> = (0..n)
+                .map(|_| {
+                    let d = (next() % spread) as i64 - spread as i64 / 2;
+                    level = if case % 2 == 1 {
+                        level + d / 8
+                    } else {
+                        30_000 + d
+                    };
+                    level = level.clamp(1, 65_534);
+                    level as u16
+                })
+                .collect();
+            let mut c = Calibrator::new(n as u32, u64::MAX, 16, tick as u32, 4 << 16);
+            codes.iter().for_each(|&x| c.push(AdcCode(x)));
+            let want = eta_f64(&codes, tick);
+            if want.is_nan() {
+                assert!(c.finish().is_ok(), "case {case}: a constant window is rest");
+                continue;
+            }
+            match c.finish() {
+                Err(CalibrationError::Unsteady { eta_q16, min_q16 }) => {
+                    assert_eq!(min_q16, 4 << 16);
+                    let got = f64::from(eta_q16) / 65_536.0;
+                    assert!(
+                        got <= want + 1e-9 && want - got < 1.0 / 65_536.0 + 1e-9,
+                        "case {case}: {got} against {want}"
+                    );
+                }
+                other => panic!("case {case}: eta {want} under 4 not refused: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn the_motion_test_runs_from_the_fewest_blocks_that_can_fail_it() {
+        // By hand: z(1e-4) = 3.719016; the bound 1 - z sqrt((k-2)/((k+1)(k-1))) against the
+        // least ratio of k blocks, 1 - cos(pi / k).
+        let bound = |k: f64| 1.0 - 3.719_016 * ((k - 2.0) / ((k + 1.0) * (k - 1.0))).sqrt();
+        let least = |k: f64| 1.0 - (core::f64::consts::PI / k).cos();
+        assert!(bound(12.0) < least(12.0) && bound(13.0) > least(13.0));
+        for k in 0..STEADY_BLOCKS_MIN {
+            assert_eq!(steady_min_q16(k), 0, "{k} blocks");
+        }
+        let min = steady_min_q16(13);
+        assert!(
+            (f64::from(min) / 65_536.0 - bound(13.0)).abs() < 2e-5,
+            "{min}"
+        );
+        // A half cosine over 13 blocks of 4 one-sample ticks: the smoothest window there is,
+        // refused at 13 blocks.
+        let mut c = Calibrator::new(52, u64::MAX, 12, 1, min);
+        for i in 0..52 {
+            let j = f64::from(i / 4);
+            let v = 500.0 * (1.0 - (core::f64::consts::PI * (j + 0.5) / 13.0).cos());
+            c.push(AdcCode(2000 + v.round() as u16));
+        }
+        assert!(matches!(c.finish(), Err(CalibrationError::Unsteady { .. })));
+    }
+
+    #[test]
+    fn a_ratio_at_the_bound_is_rest_and_below_it_is_motion() {
+        // 40 blocks of 4 one-sample ticks, half of them one code up, in 6 runs (5 changes):
+        // D = 5 * 16, spread 40 * 4: eta = 80 / 320 = 1/4 exactly.
+        let runs = [8usize, 8, 8, 8, 4, 4];
+        let codes: Vec<u16> = runs
+            .iter()
+            .enumerate()
+            .flat_map(|(r, &len)| core::iter::repeat_n(2000 + (r % 2) as u16, 4 * len))
+            .collect();
+        let verdict = |min: u32| {
+            let mut c = Calibrator::new(160, u64::MAX, 12, 1, min);
+            codes.iter().for_each(|&x| c.push(AdcCode(x)));
+            c.finish()
+        };
+        assert!(verdict(16_384).is_ok(), "eta = the bound: rest");
+        match verdict(steady_min_q16(40)) {
+            Err(CalibrationError::Unsteady { eta_q16, .. }) => assert_eq!(eta_q16, 16_384),
+            other => panic!("eta 1/4 under 0.43: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_step_is_unsteady_and_noise_or_a_constant_is_not() {
+        // 40 blocks of 4 ticks of 1 sample (the bound of 40 blocks is 0.43).
+        let min = steady_min_q16(40);
+        assert_eq!(min, 27_963); // round((1 - 3.719016 sqrt(38 / (41 * 39))) 2^16), by hand
+        let window = |f: &dyn Fn(usize) -> u16| {
+            let mut c = Calibrator::new(160, u64::MAX, 12, 1, min);
+            (0..160).for_each(|i| c.push(AdcCode(f(i))));
+            c.finish()
+        };
+        // Alternating blocks: eta near 2. A constant: no spread at all.
+        assert!(window(&|i| 2000 + ((i / 4) % 2) as u16).is_ok());
+        assert!(window(&|_| 2000).is_ok());
+        // A step of one code half-way: one jump of 4 between block sums, 40 blocks at +-2
+        // from their mean: eta = 16 / (2 * 160) = 1/20.
+        match window(&|i| 2000 + u16::from(i >= 80)) {
+            Err(CalibrationError::Unsteady { eta_q16, min_q16 }) => {
+                assert_eq!(min_q16, min);
+                assert_eq!(eta_q16, 65_536 / 20);
+            }
+            other => panic!("a step: {other:?}"),
+        }
+        // The same step with the test off (bound 0), or in a window of 7 blocks: taken.
+        let mut off = Calibrator::new(160, u64::MAX, 12, 1, 0);
+        (0..160).for_each(|i| off.push(AdcCode(2000 + u16::from(i >= 80))));
+        assert!(off.finish().is_ok());
+        let mut short = Calibrator::new(28, u64::MAX, 12, 1, min);
+        (0..28).for_each(|i| short.push(AdcCode(2000 + u16::from(i >= 16))));
+        assert!(short.finish().is_ok(), "7 blocks are not tested");
+        let mut restarted = Calibrator::new(160, u64::MAX, 12, 1, min);
+        (0..160).for_each(|i| restarted.push(AdcCode(2000 + u16::from(i >= 80))));
+        restarted.restart();
+        (0..160).for_each(|i| restarted.push(AdcCode(2000 + ((i / 4) % 2) as u16)));
+        assert!(restarted.finish().is_ok(), "a restart forgets the blocks");
+    }
+
     #[test]
     fn tick_variances_match_their_definition() {
         // Random windows: tick sizes 1 to 500, 4 to 3000 ticks, quiet and full-range noisy
         // codes, correlated (a walk) and not; the Q32 values are the f64 definition floored,
         // to 1e-9 relative (f64's own error on these sums).
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(0x2545_F491_4F6C_DD1Du64);
         for case in 0..300 {
             let tick = 1 + (next() % 500) as usize;
             let ticks = 4 + (next() % 3000) as usize;
@@ -412,7 +699,7 @@ mod tests {
                     }
                 })
                 .collect();
-            let mut c = Calibrator::new(n as u32, u64::MAX, 16, tick as u32);
+            let mut c = Calibrator::new(n as u32, u64::MAX, 16, tick as u32, 0);
             codes.iter().for_each(|&x| c.push(AdcCode(x)));
             let (tv, lv) = c.tick_variances();
             let (want_t, want_l) = tick_variances_f64(&codes, tick);
@@ -444,7 +731,7 @@ mod tests {
         // Ticks in a period of three, deviations +10, +10, -20: g0 = 200, g1 = g2 = -100, so
         // g0 + 2 g1 + 2 g2 = -200: the anticorrelation would claim less than no noise at all.
         // The long-run variance is held at g0 / 2.
-        let mut c = Calibrator::new(3000, u64::MAX, 12, 1);
+        let mut c = Calibrator::new(3000, u64::MAX, 12, 1, 0);
         for i in 0..3000 {
             c.push(AdcCode([2010, 2010, 1980][i % 3]));
         }
@@ -457,7 +744,7 @@ mod tests {
     fn four_ticks_are_enough_and_three_are_not() {
         // Ticks of one sample: with 4 the variances are measured (here far above the floor),
         // with 3 both are the floor of 1/4 LSB^2.
-        let mut c = Calibrator::new(4, u64::MAX, 12, 1);
+        let mut c = Calibrator::new(4, u64::MAX, 12, 1, 0);
         for x in [1000, 3000, 1000, 3000] {
             c.push(AdcCode(x));
         }
@@ -468,7 +755,7 @@ mod tests {
             c.tick_lags(),
             [-750_000 << 32, 500_000 << 32, -250_000 << 32]
         );
-        let mut c = Calibrator::new(3, u64::MAX, 12, 1);
+        let mut c = Calibrator::new(3, u64::MAX, 12, 1, 0);
         for x in [1000, 3000, 1000] {
             c.push(AdcCode(x));
         }
@@ -482,8 +769,8 @@ mod tests {
         // variance 1/16 LSB^2 = 4096 in Q16. At a bound of exactly that it is rest; one
         // below, motion.
         let codes = core::iter::once(2001).chain([2000; 15]);
-        let mut at = Calibrator::new(16, 4096, 12, 4);
-        let mut below = Calibrator::new(16, 4095, 12, 4);
+        let mut at = Calibrator::new(16, 4096, 12, 4, 0);
+        let mut below = Calibrator::new(16, 4095, 12, 4, 0);
         for x in codes {
             at.push(AdcCode(x));
             below.push(AdcCode(x));

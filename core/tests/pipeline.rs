@@ -195,8 +195,12 @@ fn tracker_calibrates_then_tracks() {
 }
 
 #[test]
-fn motion_during_calibration_restarts_it() {
-    let mut t = Tracker::new(&cfg()).expect("valid");
+fn a_window_noisier_than_the_rms_bound_restarts_calibration() {
+    let cfg = Config {
+        rest_noise_max_m_s2: 0.1,
+        ..cfg()
+    };
+    let mut t = Tracker::new(&cfg).expect("valid");
     let mut window: Vec<[u16; 3]> = (0..3000).map(|i| rest(i, 2048)).collect();
     window[1500][1] = 2400; // a knock on Y: rms 6.4 LSB = 0.15 m/s^2 > 0.1 m/s^2
     match t.feed(&window) {
@@ -208,6 +212,62 @@ fn motion_during_calibration_restarts_it() {
     }
     assert_eq!(t.phase(), Phase::Calibrating);
     assert_eq!(t.counters().rejected_windows, 1);
+    let window: Vec<[u16; 3]> = (0..3000).map(|i| rest(i, 2048)).collect();
+    assert!(matches!(t.feed(&window), Some(Event::Calibrated(_))));
+}
+
+#[test]
+fn the_motion_test_counts_the_windows_20_ms_blocks() {
+    // At 3 kHz a 1 s window is 50 blocks of 60 samples (4 ticks of 15): its bound is 0.572.
+    // X one code up in 8 runs of 25 blocks in all, 16 changes among 50 blocks: a von Neumann
+    // ratio of 2 * 16 / 50 = 0.64, above the bound: rest. (Counted in other blocks, the
+    // window's ratio and bound would both be other numbers.)
+    let high = [3usize, 3, 3, 3, 3, 3, 3, 4];
+    let low = [3usize, 3, 3, 3, 3, 3, 3, 2, 2];
+    let mut up = Vec::new();
+    for (r, &l) in low.iter().enumerate() {
+        up.extend(core::iter::repeat_n(false, l * 60));
+        if let Some(&h) = high.get(r) {
+            up.extend(core::iter::repeat_n(true, h * 60));
+        }
+    }
+    assert_eq!(up.len(), 3000);
+    let mut t = Tracker::new(&cfg()).expect("valid");
+    let window: Vec<[u16; 3]> = (0..3000)
+        .map(|i| {
+            let [x, y, z] = rest(i, 2048);
+            [x + u16::from(up[i]), y, z]
+        })
+        .collect();
+    assert!(
+        matches!(t.feed(&window), Some(Event::Calibrated(_))),
+        "a ratio of 0.64 in 50 blocks is rest"
+    );
+    let settings = cfg().validate().expect("valid");
+    let mut c = settings.calibrator();
+    window.iter().for_each(|s| c.push(AdcCode(s[0])));
+    assert!(c.finish().is_ok());
+}
+
+#[test]
+fn a_tilt_during_calibration_restarts_it() {
+    // X steps by 2 codes (0.05 m/s^2, 0.3 degrees) half-way: 1 LSB rms, far under the rms
+    // bound, and a zero a code off; the motion test refuses the window.
+    let mut t = Tracker::new(&cfg()).expect("valid");
+    let window: Vec<[u16; 3]> = (0..3000)
+        .map(|i| {
+            let [x, y, z] = rest(i, 2048);
+            [x + if i >= 1500 { 2 } else { 0 }, y, z]
+        })
+        .collect();
+    match t.feed(&window) {
+        Some(Event::Rejected {
+            axis: 0,
+            error: CalibrationError::Unsteady { .. },
+        }) => {}
+        other => panic!("expected rejection on X, got {other:?}"),
+    }
+    assert_eq!(t.phase(), Phase::Calibrating);
     let window: Vec<[u16; 3]> = (0..3000).map(|i| rest(i, 2048)).collect();
     assert!(matches!(t.feed(&window), Some(Event::Calibrated(_))));
 }

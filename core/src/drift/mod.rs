@@ -363,7 +363,7 @@ fn upper_tail(z: f64) -> f64 {
 }
 
 /// The `z` with `P(Z > z) = p`, `0 < p < 1/2`, by bisection on [`upper_tail`].
-fn z_of_tail(p: f64) -> f64 {
+pub(crate) fn z_of_tail(p: f64) -> f64 {
     let (mut lo, mut hi) = (0.0, 40.0);
     for _ in 0..100 {
         let mid = 0.5 * (lo + hi);
