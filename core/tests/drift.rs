@@ -699,3 +699,91 @@ fn a_stroke_during_a_tilts_hold_never_delivers_the_tilts_runaway() {
         );
     }
 }
+
+#[test]
+fn a_pad_settling_after_its_tilt_delivers_nothing_once_at_rest() {
+    // The pad tilts slowly under the resting mouse: X rises by `lsb` (2 degrees is 14 LSB) in
+    // a minimum-jerk profile over `secs`, then stays. Whatever the cursor runs before the
+    // hold, nothing may arrive later than half a second after the pad is at rest: the held
+    // run is dropped and the tilt is the new zero. (On these scenes the tilt is confirmed
+    // at its end; the hand model's pads that go on settling after a shadow's level are
+    // `lab_families.rs`'s.)
+    for (lsb, secs) in [(9.0, 0.68), (6.0, 0.5), (9.0, 1.0), (14.0, 0.7), (4.0, 0.4)] {
+        let len = secs * 3000.0;
+        let scene = |i: usize, n: &mut Noise| {
+            let u = ((i as f64 - 3000.0) / len).clamp(0.0, 1.0);
+            let x = 2048.0 + lsb * u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+            [n.code(x.round() as u16), n.code(2048), n.code(2048)]
+        };
+        let mut t = tracker(Some(Drift::default()));
+        let mut n = Noise(Trace::new(3));
+        let rest_at = 3000 + len as usize;
+        let before = run(&mut t, rest_at + 1500, |i| scene(i, &mut n));
+        let after = run(&mut t, 30_000, |i| scene(i + rest_at + 1500, &mut n));
+        assert_eq!(
+            after,
+            [0, 0, 0],
+            "{lsb} LSB over {secs} s: {before:?} before"
+        );
+        assert!(t.is_still(), "{:?}", t.drift_state());
+    }
+}
+
+#[test]
+fn a_quick_stroke_across_a_tilts_hold_arrives_though_its_shadow_stops_at_once() {
+    // The desk tilts by 2 degrees on X (14 LSB within 0.1 s, from 1 s on) and stays; 0.8 to
+    // 0.94 s later, while the tilt's motion is held, a hand flicks Y (one sine period of 20
+    // or 40 LSB over 0.15 s) and is still again before the tilt is confirmed. The shadow
+    // taken at the confirmation replays the flick and is at rest at once: it is adopted
+    // because its replayed sub-windows went against the tilt's direction (a stroke's lobes
+    // have both signs), so the flick arrives whole: the cursor moves by the flick and the
+    // tilt's run before its hold, each as alone, to 2 counts of rounding and 2 %: the hold a
+    // tick earlier or later changes a run growing as t^2 by 2 tick / t, 2 % at 0.5 s (and
+    // the level's own noise, 0.2 % of the flick's peak).
+    let scene = |start: usize, amp: f64| {
+        move |i: usize, n: &mut Noise| {
+            let t = (i as f64 - start as f64) / 3000.0;
+            let flick = if (0.0..0.15).contains(&t) {
+                amp * (core::f64::consts::TAU * t / 0.15).sin()
+            } else {
+                0.0
+            };
+            let f = ((i as f64 - 3000.0) / 300.0).clamp(0.0, 1.0);
+            let x = 2048.0 + if start > 0 { 14.0 * f } else { 0.0 };
+            [
+                n.code(x.round() as u16),
+                n.code((2048.0 + flick).round() as u16),
+                n.code(2048),
+            ]
+        }
+    };
+    let total = |f: &mut dyn FnMut(usize, &mut Noise) -> [u16; 3]| {
+        let mut t = tracker(Some(Drift::default()));
+        let mut n = Noise(Trace::new(5));
+        let sum = run(&mut t, 20_000, |i| f(i, &mut n));
+        assert!(t.is_still(), "{:?}", t.drift_state());
+        (sum, t.counters())
+    };
+    let (tilt, _) = total(&mut scene(usize::MAX, 0.0));
+    for start in [5400, 5600, 5800] {
+        for amp in [20.0, 40.0] {
+            let (flick, _) = {
+                let alone = scene(start, amp);
+                total(&mut |i, n| {
+                    let [_, y, z] = alone(i, n);
+                    [n.code(2048), y, z]
+                })
+            };
+            let (both, counters) = total(&mut scene(start, amp));
+            assert_eq!((counters.discarded, counters.rebiases), (1, 1), "adopted");
+            let close = |a: usize| {
+                let want = flick[a] + tilt[a];
+                (both[a] - want).abs() <= (flick[a].abs() + tilt[a].abs()) / 50 + 2
+            };
+            assert!(
+                close(0) && close(1),
+                "start {start}, {amp} LSB: {both:?}, the flick alone {flick:?}, the tilt alone {tilt:?}"
+            );
+        }
+    }
+}

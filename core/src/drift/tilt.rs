@@ -43,7 +43,12 @@
 //!   ([`super::Action::Shadow`]). Whichever stop test passes first (quiet and velocity
 //!   explained, each against its own zero) wins: the motion is delivered as it is, or the
 //!   shadow replaces it ([`super::Action::Adopt`]: the tilt's runaway dropped, the level the
-//!   new zero). If neither has within the longest stroke, the tilt hypothesis wins while the
+//!   new zero). A shadow wins with its own motion only if that went against the tilt's
+//!   direction on X or Y (a short sub-window, of its replay or later, significant against
+//!   the level with the other sign than the level's own offset from the old zero): a hand's
+//!   stroke has lobes of both signs on the axis it moves, so one of them does; a pad that
+//!   goes on settling after the level was taken only adds to its tilt, and its shadow's
+//!   motion is dropped with the rest ([`super::Action::Rebias`]). If neither has within the longest stroke, the tilt hypothesis wins while the
 //!   acceleration is still one-sided, the motion's otherwise.
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
 //!   stroke is that long. The held motion is dropped and the zeros become the level of the
@@ -92,6 +97,11 @@ pub struct Tilt {
     /// sign seen on each horizontal axis.
     wary: bool,
     first: [i8; 2],
+    /// While a shadow runs: the tilt's direction on each horizontal axis (the sign of its
+    /// zeros against the motion's), and whether the shadow's acceleration has gone against
+    /// it (a hand's, see `Detector::shadow_against`).
+    shadow_dir: [i8; 2],
+    shadow_turned: bool,
 }
 
 impl Tilt {
@@ -168,11 +178,27 @@ impl Detector {
     /// certain, so that at its timeout the tilt's zero wins, not the held motion.
     pub(crate) fn shadow_block(&mut self, s: &DriftSettings, bias: [i64; 3]) {
         self.count_block(s, bias);
+        // What a pad does after the level was taken is more of its tilt: against the level
+        // its acceleration keeps the tilt's direction. A hand's stroke has lobes of both
+        // signs, so one goes against it.
+        if let Some((level, ..)) = self.tilt.shadow {
+            self.shadow_against(s, level, 0);
+        }
         let sided = self.one_sided_blocks(s);
         if sided.iter().any(|&b| b > s.tilt_blocks[1]) {
             if let Some(shadow) = &mut self.tilt.shadow {
                 shadow.3 = true;
             }
+        }
+    }
+
+    /// Whether the short sub-window ending `back` blocks ago went against the tilt's
+    /// direction on X or Y (significant off `level` with the other sign than the tilt's):
+    /// the shadow is then a hand's.
+    fn shadow_against(&mut self, s: &DriftSettings, level: [i64; 3], back: u32) {
+        for (a, &dir) in self.tilt.shadow_dir.iter().enumerate() {
+            let sign = self.sub_sign(s, 0, a, back, level[a]);
+            self.tilt.shadow_turned |= sign != 0 && sign != dir;
         }
     }
 
@@ -223,7 +249,7 @@ impl Detector {
                     };
                 }
                 // Something changed after the steady stretch: it goes on as the shadow.
-                Some((j, level)) => return self.begin_shadow(s, level, j - 1, true),
+                Some((j, level)) => return self.begin_shadow(s, level, bias, j - 1, true),
                 None => {}
             }
             // Still tilting: the zeros become the longest one-sided sub-window's means.
@@ -247,19 +273,20 @@ impl Detector {
         }
         if self.tilt.held && !held {
             if let Some(level) = self.level_before_change(s, bias) {
-                return self.begin_shadow(s, level, 1, false);
+                return self.begin_shadow(s, level, bias, 1, false);
             }
         }
         self.tilt.held = held;
         Action::None
     }
 
-    /// A shadow against the zeros `level` from `subs` short sub-windows back; `certain` when
-    /// the tilt is confirmed.
+    /// A shadow against the zeros `level` (the motion's: `bias`) from `subs` short
+    /// sub-windows back; `certain` when the tilt is confirmed.
     fn begin_shadow(
         &mut self,
         s: &DriftSettings,
         level: [i64; 3],
+        bias: [i64; 3],
         subs: u32,
         certain: bool,
     ) -> Action {
@@ -268,6 +295,14 @@ impl Detector {
         let samples = blocks * u64::from(s.block) * u64::from(s.tick)
             + u64::from(self.stream.samples_in_block());
         self.tilt.shadow = Some((level, samples, self.stream.ticks(), certain));
+        self.tilt.shadow_dir = core::array::from_fn(|a| (level[a] - bias[a]).signum() as i8);
+        self.tilt.shadow_turned = false;
+        // The shadow's replayed stretch is judged as its later blocks will be: its short
+        // sub-windows, back to back, against the level.
+        let short = u64::from(s.sub_blocks[0]);
+        for back in (0..blocks.saturating_sub(short - 1)).step_by(short as usize) {
+            self.shadow_against(s, level, back as u32);
+        }
         self.tilt.held = true;
         Action::Shadow {
             bias: level,
@@ -370,10 +405,20 @@ impl Detector {
             return Some(Action::None);
         }
         if shadow_quiet && self.velocity_explained(s, w, n, nb) {
+            let turned = self.tilt.shadow_turned;
             self.enter_still();
             self.tilted(s);
             self.bias_samples = nb;
-            return Some(Action::Adopt { stop: true });
+            // A shadow that never went against the tilt was the rest of the tilt (the pad
+            // settling onto the level): its zeros, and nothing delivered.
+            return Some(if turned {
+                Action::Adopt { stop: true }
+            } else {
+                Action::Rebias {
+                    bias: level,
+                    discard: true,
+                }
+            });
         }
         if quiet && explained && !certain {
             return None;

@@ -668,17 +668,34 @@ pub struct Family {
 
 /// Runs `n` trials of `kind` on `device` and summarises them against the target.
 pub fn family(kind: Kind, device: &Device, n: usize, seed: u64, avg_s: f64) -> Family {
-    let nd = device.sensor.spec().nd();
     let trials: Vec<Trial> = (0..n)
         .into_par_iter()
-        .flat_map(|k| {
-            let mut rng = kind.rng(seed, k);
-            let case = kind.case(&mut rng, avg_s);
-            let p = run(device, &case.scenario, rng_seed(&mut rng));
-            judge(k, &case, &p, nd)
-        })
+        .flat_map(|k| trial(kind, device, k, seed, avg_s))
         .collect();
     summarise(kind, &trials, device.cpi)
+}
+
+/// Trial `k` of `kind`'s family at `seed`, as [`family`] runs it: its judged strokes (one
+/// for most families, several for knocks and lifts).
+pub fn trial(kind: Kind, device: &Device, k: usize, seed: u64, avg_s: f64) -> Vec<Trial> {
+    trial_with(kind, device, k, seed, avg_s, |_| {})
+}
+
+/// [`trial`] with its scenario changed by `edit` first (a test's mirror image of a trial,
+/// with the same noise).
+pub fn trial_with(
+    kind: Kind,
+    device: &Device,
+    k: usize,
+    seed: u64,
+    avg_s: f64,
+    edit: impl FnOnce(&mut Scenario),
+) -> Vec<Trial> {
+    let mut rng = kind.rng(seed, k);
+    let mut case = kind.case(&mut rng, avg_s);
+    edit(&mut case.scenario);
+    let p = run(device, &case.scenario, rng_seed(&mut rng));
+    judge(k, &case, &p, device.sensor.spec().nd())
 }
 
 fn summarise(kind: Kind, trials: &[Trial], cpi: f64) -> Family {
