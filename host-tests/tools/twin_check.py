@@ -222,7 +222,8 @@ def main():
     lost = lost_unconfirmed(got, total["n"], s)
     if lost is None:
         fail(f"the host's sum differs from the device's (unconfirmed at disconnects: {s['unconfirmed']})")
-    print(f"twin_check: unconfirmed at the disconnect: {s['unconfirmed']}, of which the host lost {lost}")
+    print(f"twin_check: unconfirmed at the disconnect: {s['unconfirmed']}, of which the host lost {lost} "
+          "(negated: counted discarded by the device, taken by the host)")
     if not s["accounted"]:
         fail(f"the device's counts do not add up: {s}")
     if s["sent"] == [0, 0]:
