@@ -23,9 +23,9 @@
 //! What spoils a zero is acceleration that does not average out over the window: the device
 //! pushed, held in a hand, tilted part-way through. All of it is slow (a hand moves below
 //! about 10 Hz, a tilt is a step), so it shows as **neighbouring means that agree more than
-//! noise lets them**. The window is cut into blocks of [`BLOCK_TICKS`] ticks (20 ms at 5 ms
-//! ticks; the noise of an ADXL335 through its 50 Hz pole is correlated over about 3 ms, so
-//! block sums of noise are nearly independent), and their von Neumann ratio
+//! noise lets them**. The window is cut into blocks of a few ticks (the noise of an ADXL335
+//! through its 50 Hz pole is correlated over about 3 ms, so block sums of noise are nearly
+//! independent), and their von Neumann ratio
 //!
 //! ```text
 //! eta = sum_{j>1} (B[j] - B[j-1])^2 / (2 sum_j (B[j] - mean B)^2)
@@ -33,20 +33,32 @@
 //!
 //! is about 1 for noise of any size (`E eta = 1`, `Var eta = (k - 2) / ((k + 1)(k - 1))`
 //! for `k` independent Gaussian blocks), and falls towards 0 as slow motion fills the
-//! blocks: a window is **unsteady**, and rejected, when `eta` is below
-//! `1 - z sqrt(Var eta)` with `z` the normal quantile of [`FALSE_REFUSAL`] (0.572 for the
-//! 50 blocks of 1 s). So the test needs no noise figure of the sensor: a sensor ten times
-//! noisier than the ADXL335 calibrates as readily, and a quiet one is held to its own noise.
-//! What it catches, for blocks of sd `s` (1.5 mg for the ADXL335 at 3 kHz): a step (a tilt
-//! part-way) of about `1.7 s`, 2.6 mg or 0.015 degrees, where the old rms bound of 0.1 m/s^2
-//! let a whole degree through; motion below about 9 Hz (where `1 - cos(2 pi f 20 ms)` is
-//! under the bound) that carries most of the blocks' variance. What it lets through, by
-//! design: a knock's ring or a machine's vibration (20 Hz and up, which averages out of the
-//! zero) and a hand's tremor of a few mg (as small as the noise, and zero-mean). Neighbouring
-//! blocks of a real sensor's noise correlate a little (about 0.09 for the ADXL335's pole at
-//! 3 kHz), which lowers `eta`'s mean by as much: the false-refusal rate is measured on the
-//! sensor model (`host-tests/tests/calibration_motion.rs`).
-//! Windows of fewer than [`STEADY_BLOCKS_MIN`] blocks are not tested.
+//! blocks: a block length finds the window **unsteady** when `eta` is below
+//! `1 - z sqrt(Var eta)`, `z = 3.72` the normal quantile of [`FALSE_REFUSAL`] (in 1 s: 0.485
+//! for the 50 blocks of 20 ms, 0.427 for the 40 of 25 ms, 0.372 for the 33 of 30 ms). So the
+//! test needs no noise figure of the sensor: a sensor ten times noisier than the ADXL335
+//! calibrates as readily, and a quiet one is held to its own noise.
+//!
+//! Block sums sample the window at the block rate, so a vibration near a multiple of it
+//! aliases into sums that vary slowly, as a hand's would (50 mg at 45 Hz through 20 ms blocks
+//! beats at 5 Hz, 5 mg of it left in the block means). A length is fooled within its alias
+//! zone, where the beat's `1 - cos(2 pi f_beat T)` is under its bound: 8.5, 6.1 and 4.7 Hz
+//! either side of each multiple of 50, 40 and 33 Hz. So there are three lengths,
+//! [`BLOCK_TICKS`] (20, 25 and 30 ms at 5 ms ticks), whose zones first all meet at 200 Hz,
+//! and a window is refused only when every length tested finds it unsteady.
+//!
+//! What it catches, for block means of sd `s` (1.5, 1.4 and 1.2 mg over 20, 25 and 30 ms for
+//! the ADXL335 at 3 kHz): a step (a tilt part-way) of `2 sqrt(1 / eta_min - 1) s` at each
+//! length, 3.2 mg or 0.19 degrees at most, where the old rms bound of 0.1 m/s^2 let a whole
+//! degree through; motion below about 4.7 Hz (the 30 ms length's zone about 0) that carries
+//! most of the blocks' variance. What it lets through, by design: a knock's ring or a
+//! machine's vibration (20 to about 190 Hz, which averages out of the zero), a hand's tremor
+//! of a few mg (as small as the noise, and zero-mean), and sway faster than 4.7 Hz (zero-mean
+//! too: 20 mg at 5 Hz moves the mean of 1 s by 1.3 mg at most). Neighbouring blocks of a real
+//! sensor's noise correlate a little (about 0.09 for the ADXL335's pole at 3 kHz), which
+//! lowers `eta`'s mean by as much: the false-refusal rate is measured on the sensor model
+//! (`host-tests/tests/calibration_motion.rs`). A length with fewer than
+//! [`STEADY_BLOCKS_MIN`] blocks in the window is not tested.
 //!
 //! A window whose variance exceeds the configured rms bound (a broken or floating input, a
 //! shaking hand) is rejected too, as a whole, never averaged in. A window that touches either
@@ -57,8 +69,12 @@ use core::fmt;
 use crate::math;
 use crate::AdcCode;
 
-/// Ticks in a block of the motion test [ticks] (20 ms at 5 ms ticks, 40 ms at 100 Hz).
-pub const BLOCK_TICKS: u32 = 4;
+/// Ticks in a block of each of the motion test's three block lengths [ticks]: 20, 25 and
+/// 30 ms at 5 ms ticks (40, 50 and 60 ms at 100 Hz). Their rates, 50, 40 and 33 Hz, first
+/// share a multiple at 200 Hz, and no frequency below it lies within each one's alias zone
+/// (see the module docs): a vibration that beats slowly through one length's blocks does
+/// not through all three.
+pub const BLOCK_TICKS: [u32; 3] = [4, 5, 6];
 /// Fewest blocks in a window for the motion test to run [blocks]: no window of `k` blocks
 /// has a von Neumann ratio below `1 - cos(pi / k)` (a half cosine's), and from 13 blocks on
 /// the bound at [`FALSE_REFUSAL`] lies above that (0.048 against 0.029; at 12 blocks 0.017
@@ -116,13 +132,16 @@ pub enum CalibrationError {
         /// The window's rms noise in Q16 counts.
         noise_rms_q16: u64,
     },
-    /// The window's 20 ms means agreed more than its noise lets them: slow motion or a step
-    /// (see the module docs).
+    /// The window's block means agreed more than its noise lets them, at every block length
+    /// ([`BLOCK_TICKS`]) that was tested: slow motion or a step (see the module docs).
     Unsteady {
-        /// The window's von Neumann ratio in Q16 (`65536` is 1, the value at rest).
-        eta_q16: u32,
-        /// The bound it fell below, in Q16.
-        min_q16: u32,
+        /// The window's von Neumann ratio at each block length in Q16 (`65536` is 1, the
+        /// value at rest); `u32::MAX` for a length not tested.
+        eta_q16: [u32; 3],
+        /// The bounds they fell below, in Q16 (0: not tested).
+        min_q16: [u32; 3],
+        /// The tick's length [us], for the blocks' lengths in the message.
+        tick_us: u32,
     },
     /// A sample sat on an ADC rail (code 0 or full scale): clipped or disconnected sensor.
     Clipped {
@@ -136,15 +155,24 @@ impl fmt::Display for CalibrationError {
         match self {
             Self::Motion { noise_rms_q16 } => write!(
                 f,
-                "motion during calibration: rms {:.3} LSB is above the at-rest bound",
+                "too noisy to calibrate: rms {:.3} LSB is above the at-rest bound (rest_noise_max_m_s2; a shaking hand or a faulty input)",
                 *noise_rms_q16 as f64 / 65_536.0
             ),
-            Self::Unsteady { eta_q16, min_q16 } => write!(
-                f,
-                "motion during calibration: neighbouring 20 ms means agree too well (von Neumann ratio {:.2}, at rest about 1, below {:.2} is motion)",
-                f64::from(*eta_q16) / 65_536.0,
-                f64::from(*min_q16) / 65_536.0
-            ),
+            Self::Unsteady {
+                eta_q16,
+                min_q16,
+                tick_us,
+            } => {
+                f.write_str("motion during calibration: neighbouring means agree more than noise lets them (von Neumann ratio")?;
+                for ((eta, min), ticks) in eta_q16.iter().zip(min_q16).zip(BLOCK_TICKS) {
+                    if *min > 0 {
+                        let ms = f64::from(ticks * tick_us) / 1000.0;
+                        let (eta, min) = (f64::from(*eta) / 65_536.0, f64::from(*min) / 65_536.0);
+                        write!(f, " {eta:.2} over {ms:.0} ms blocks, below {min:.2};")?;
+                    }
+                }
+                f.write_str(" at rest about 1)")
+            }
             Self::Clipped { code } => write!(
                 f,
                 "ADC code {code} is a rail: the sensor is clipped or disconnected"
@@ -174,30 +202,101 @@ pub struct Calibrator {
     ticks: u32,
     ticks_sum: u64,
     ticks_lag: [u128; 4],
-    /// The motion test's bound (Q16, 0: no test), the current block's sum, complete blocks,
-    /// their sum, the first and the latest block, and the sums of squares and of
-    /// neighbours' products.
-    steady_min_q16: u32,
-    block_sum: u64,
-    blocks: u32,
-    blocks_sum: u64,
-    first_block: u64,
-    last_block: u64,
-    blocks_sq: u128,
-    blocks_lag: u128,
+    /// The motion test at each block length, and the tick's length [us] for its message.
+    blocks: [Blocks; 3],
+    tick_us: u32,
+}
+
+/// The motion test's sums at one block length: its bound (Q16, 0: no test), the current
+/// block's sum, complete blocks, their sum, the first and the latest block, and the sums of
+/// squares and of neighbours' products.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Blocks {
+    ticks: u32,
+    min_q16: u32,
+    sum: u64,
+    n: u32,
+    total: u64,
+    first: u64,
+    last: u64,
+    sq: u128,
+    lag: u128,
+}
+
+impl Blocks {
+    const fn new(ticks: u32, min_q16: u32) -> Self {
+        Self {
+            ticks,
+            min_q16,
+            sum: 0,
+            n: 0,
+            total: 0,
+            first: 0,
+            last: 0,
+            sq: 0,
+            lag: 0,
+        }
+    }
+
+    /// Adds a tick's sum `t`, the window's `ticks`-th: a block ends every [`Self::ticks`].
+    /// Each sum below `(n 2^16)^2 <= 2^80`.
+    fn push_tick(&mut self, t: u64, ticks: u32) {
+        self.sum += t; // <= 5 2^14 2^16 < 2^33
+        if !ticks.is_multiple_of(self.ticks) {
+            return;
+        }
+        let b = core::mem::take(&mut self.sum);
+        if self.n == 0 {
+            self.first = b;
+        } else {
+            self.lag += u128::from(b) * u128::from(self.last);
+        }
+        self.n += 1;
+        self.total += b;
+        self.sq += u128::from(b) * u128::from(b);
+        self.last = b;
+    }
+
+    /// Whether the test runs on these blocks.
+    const fn tested(&self) -> bool {
+        self.min_q16 > 0 && self.n >= STEADY_BLOCKS_MIN
+    }
+
+    /// The von Neumann ratio (Q16), if the test runs and it is below the bound (see the
+    /// module docs): computed exactly as `k D 2^16 < eta_min 2 (k S2 - S1^2)` with `D` the
+    /// sum of squared neighbours' differences, `S1`, `S2` the blocks' sum and sum of squares
+    /// (every term below `2^98`). A constant window has no spread: steady.
+    fn unsteady(&self) -> Option<u32> {
+        if !self.tested() {
+            return None;
+        }
+        let k = u128::from(self.n);
+        let s1 = u128::from(self.total);
+        let spread = k * self.sq - s1 * s1; // k^2 times the blocks' variance, >= 0
+        let ends = u128::from(self.first).pow(2) + u128::from(self.last).pow(2);
+        let diffs = 2 * self.sq - ends - 2 * self.lag; // >= 0
+        if spread == 0 {
+            return None;
+        }
+        let lhs = (k * diffs) << 16;
+        let rhs = 2 * u128::from(self.min_q16) * spread;
+        (lhs < rhs).then(|| (lhs / (2 * spread)).min(u128::from(u32::MAX)) as u32)
+    }
 }
 
 impl Calibrator {
     /// A calibrator for `window` samples (`2..=2^24`) that rejects a variance above
     /// `var_max_q16` (LSB^2 in Q16), any code at `0` or `2^adc_bits - 1`, and an unsteady
-    /// window (its von Neumann ratio below `steady_min_q16`, Q16; 0 for no test, see
-    /// [`steady_min_q16`]), and measures the noise over ticks of `tick` samples (`1..=2^14`).
+    /// window (its von Neumann ratio below `steady_min_q16` at every block length of
+    /// [`BLOCK_TICKS`] tested, Q16; 0 for no test at that length, see [`steady_min_q16`]),
+    /// and measures the noise over ticks of `tick` samples (`1..=2^14`) of `tick_us`
+    /// microseconds.
     pub(crate) const fn new(
         window: u32,
         var_max_q16: u64,
         adc_bits: u8,
-        tick: u32,
-        steady_min_q16: u32,
+        (tick, tick_us): (u32, u32),
+        steady_min_q16: [u32; 3],
     ) -> Self {
         Self {
             window,
@@ -214,15 +313,23 @@ impl Calibrator {
             ticks: 0,
             ticks_sum: 0,
             ticks_lag: [0; 4],
-            steady_min_q16,
-            block_sum: 0,
-            blocks: 0,
-            blocks_sum: 0,
-            first_block: 0,
-            last_block: 0,
-            blocks_sq: 0,
-            blocks_lag: 0,
+            blocks: [
+                Blocks::new(BLOCK_TICKS[0], steady_min_q16[0]),
+                Blocks::new(BLOCK_TICKS[1], steady_min_q16[1]),
+                Blocks::new(BLOCK_TICKS[2], steady_min_q16[2]),
+            ],
+            tick_us,
         }
+    }
+
+    /// The motion test's bound at each block length of [`BLOCK_TICKS`] (Q16; 0: that length
+    /// is not tested), as [`steady_min_q16`] gives it for the window's count of blocks.
+    pub const fn steady_bounds_q16(&self) -> [u32; 3] {
+        [
+            self.blocks[0].min_q16,
+            self.blocks[1].min_q16,
+            self.blocks[2].min_q16,
+        ]
     }
 
     /// Samples accumulated so far.
@@ -266,47 +373,25 @@ impl Calibrator {
             self.ticks += 1;
             self.last_ticks = [self.last_ticks[1], self.last_ticks[2], t];
             self.tick_sum = 0;
-            self.block_sum += t; // <= BLOCK_TICKS 2^14 2^16 = 2^32
-            if self.ticks.is_multiple_of(BLOCK_TICKS) {
-                self.end_block();
+            for b in &mut self.blocks {
+                b.push_tick(t, self.ticks);
             }
         }
     }
 
-    /// Adds the block just completed to the motion test's sums: each term below
-    /// `(n 2^16)^2 <= 2^80` in all.
-    fn end_block(&mut self) {
-        let b = core::mem::take(&mut self.block_sum);
-        if self.blocks == 0 {
-            self.first_block = b;
-        } else {
-            self.blocks_lag += u128::from(b) * u128::from(self.last_block);
-        }
-        self.blocks += 1;
-        self.blocks_sum += b;
-        self.blocks_sq += u128::from(b) * u128::from(b);
-        self.last_block = b;
-    }
-
-    /// The motion test: `Some(eta_q16)` if the blocks' von Neumann ratio is below the bound
-    /// (see the module docs), computed exactly as `k D 2^16 < eta_min 2 (k S2 - S1^2)` with
-    /// `D` the sum of squared neighbours' differences, `S1`, `S2` the blocks' sum and sum of
-    /// squares (every term below `2^98`).
-    fn unsteady(&self) -> Option<u32> {
-        if self.steady_min_q16 == 0 || self.blocks < STEADY_BLOCKS_MIN {
+    /// The motion test: `Some` with each length's ratio if every block length tested
+    /// finds the window unsteady, and at least one is tested.
+    fn unsteady(&self) -> Option<[u32; 3]> {
+        let etas = self.blocks.map(|b| b.unsteady());
+        let vetoed = self
+            .blocks
+            .iter()
+            .zip(&etas)
+            .any(|(b, e)| b.tested() && e.is_none());
+        if vetoed || etas == [None; 3] {
             return None;
         }
-        let k = u128::from(self.blocks);
-        let s1 = u128::from(self.blocks_sum);
-        let spread = k * self.blocks_sq - s1 * s1; // k^2 times the blocks' variance, >= 0
-        let ends = u128::from(self.first_block).pow(2) + u128::from(self.last_block).pow(2);
-        let diffs = 2 * self.blocks_sq - ends - 2 * self.blocks_lag; // >= 0
-        if spread == 0 {
-            return None; // a constant window: no motion in it
-        }
-        let lhs = (k * diffs) << 16;
-        let rhs = 2 * u128::from(self.steady_min_q16) * spread;
-        (lhs < rhs).then(|| (lhs / (2 * spread)).min(u128::from(u32::MAX)) as u32)
+        Some(etas.map(|e| e.unwrap_or(u32::MAX)))
     }
 
     /// Empties the window.
@@ -315,8 +400,8 @@ impl Calibrator {
             self.window,
             self.var_max_q16,
             self.rail.count_ones() as u8,
-            self.tick,
-            self.steady_min_q16,
+            (self.tick, self.tick_us),
+            self.blocks.map(|b| b.min_q16),
         );
     }
 
@@ -342,7 +427,8 @@ impl Calibrator {
         if let Some(eta_q16) = self.unsteady() {
             return Err(CalibrationError::Unsteady {
                 eta_q16,
-                min_q16: self.steady_min_q16,
+                min_q16: self.blocks.map(|b| if b.tested() { b.min_q16 } else { 0 }),
+                tick_us: self.tick_us,
             });
         }
         let bias_q16 = (((sum << 17) + n) / (2 * n)) as i64; // round half up of sum 2^16 / n
@@ -434,7 +520,7 @@ mod tests {
     use std::vec::Vec;
 
     fn cal(window: u32, var_max_lsb2: u64) -> Calibrator {
-        Calibrator::new(window, var_max_lsb2 << 16, 12, 2, 0)
+        Calibrator::new(window, var_max_lsb2 << 16, 12, (2, 1000), [0, 0, 0])
     }
 
     #[test]
@@ -467,7 +553,7 @@ mod tests {
         // Ticks of 2 samples. Alternating: tick sums 4000 +- 2 in turn (g1 = -g0, g2 = g0):
         // the long-run variance g0 - 2 g0 + 2 g0 = g0. Correlated: tick sums in runs of four
         // (g1 = g0 / 2, g2 = 0 in the limit): long-run = 2 g0.
-        let mut c = Calibrator::new(4000, 100 << 16, 12, 2, 0);
+        let mut c = Calibrator::new(4000, 100 << 16, 12, (2, 1000), [0, 0, 0]);
         for i in 0..4000 {
             c.push(AdcCode(if (i / 2) % 2 == 0 { 2001 } else { 1999 }));
         }
@@ -477,7 +563,7 @@ mod tests {
         assert!((r.tick_var_q32 as f64 / 2f64.powi(32) - g0).abs() < 1e-6);
         let ratio = r.long_run_var_q32 as f64 / r.tick_var_q32 as f64;
         assert!((ratio - 1.0).abs() < 0.01, "{ratio}");
-        let mut c = Calibrator::new(4000, 100 << 16, 12, 2, 0);
+        let mut c = Calibrator::new(4000, 100 << 16, 12, (2, 1000), [0, 0, 0]);
         for i in 0..4000 {
             c.push(AdcCode(if (i / 8) % 2 == 0 { 2001 } else { 1999 }));
         }
@@ -534,10 +620,10 @@ mod tests {
         }
     }
 
-    /// The von Neumann ratio of the complete blocks of `tick * BLOCK_TICKS` samples, in f64.
-    fn eta_f64(codes: &[u16], tick: usize) -> f64 {
+    /// The von Neumann ratio of the complete blocks of `tick * ticks` samples, in f64.
+    fn eta_f64(codes: &[u16], tick: usize, ticks: u32) -> f64 {
         let b: Vec<f64> = codes
-            .chunks_exact(tick * BLOCK_TICKS as usize)
+            .chunks_exact(tick * ticks as usize)
             .map(|c| c.iter().map(|&x| f64::from(x)).sum())
             .collect();
         let mean = b.iter().sum::<f64>() / b.len() as f64;
@@ -548,14 +634,15 @@ mod tests {
 
     #[test]
     fn the_motion_test_is_the_von_neumann_ratio_of_its_blocks() {
-        // Random windows (tick 1 to 60, 13 to 412 blocks and a partial one, white and walking
-        // codes, quiet and full range): with the bound at 4 every window is refused, and the
-        // ratio it reports is the f64 definition's, floored to Q16.
+        // Random windows (tick 1 to 60, 20 to 419 blocks of 4 ticks and a partial one, so 13
+        // or more of 5 and of 6; white and walking codes, quiet and full range): with every
+        // bound at 4 every window is refused, and the ratio it reports at each length is the
+        // f64 definition's, floored to Q16.
         let mut next = xorshift(0x9E37_79B9_7F4A_7C15u64);
         for case in 0..200 {
             let tick = 1 + (next() % 60) as usize;
-            let blocks = STEADY_BLOCKS_MIN as usize + (next() % 400) as usize;
-            let n = tick * (BLOCK_TICKS as usize * blocks + (next() % 4) as usize);
+            let blocks = 20 + (next() % 400) as usize;
+            let n = tick * (BLOCK_TICKS[0] as usize * blocks + (next() % 4) as usize);
             let spread = [3, 40, 65_000][case % 3];
             let mut level = 30_000i64;
             let codes: Vec<u16> = (0..n)
@@ -570,23 +657,27 @@ mod tests {
                     level as u16
                 })
                 .collect();
-            let mut c = Calibrator::new(n as u32, u64::MAX, 16, tick as u32, 4 << 16);
+            let mut c = Calibrator::new(n as u32, u64::MAX, 16, (tick as u32, 1000), [4 << 16; 3]);
             codes.iter().for_each(|&x| c.push(AdcCode(x)));
-            let want = eta_f64(&codes, tick);
-            if want.is_nan() {
+            let want = BLOCK_TICKS.map(|ticks| eta_f64(&codes, tick, ticks));
+            if want[0].is_nan() {
                 assert!(c.finish().is_ok(), "case {case}: a constant window is rest");
                 continue;
             }
             match c.finish() {
-                Err(CalibrationError::Unsteady { eta_q16, min_q16 }) => {
-                    assert_eq!(min_q16, 4 << 16);
-                    let got = f64::from(eta_q16) / 65_536.0;
-                    assert!(
-                        got <= want + 1e-9 && want - got < 1.0 / 65_536.0 + 1e-9,
-                        "case {case}: {got} against {want}"
-                    );
+                Err(CalibrationError::Unsteady {
+                    eta_q16, min_q16, ..
+                }) => {
+                    assert_eq!(min_q16, [4 << 16; 3]);
+                    for (got, want) in eta_q16.iter().zip(want) {
+                        let got = f64::from(*got) / 65_536.0;
+                        assert!(
+                            got <= want + 1e-9 && want - got < 1.0 / 65_536.0 + 1e-9,
+                            "case {case}: {got} against {want}"
+                        );
+                    }
                 }
-                other => panic!("case {case}: eta {want} under 4 not refused: {other:?}"),
+                other => panic!("case {case}: eta {want:?} under 4 not refused: {other:?}"),
             }
         }
     }
@@ -608,7 +699,7 @@ mod tests {
         );
         // A half cosine over 13 blocks of 4 one-sample ticks: the smoothest window there is,
         // refused at 13 blocks.
-        let mut c = Calibrator::new(52, u64::MAX, 12, 1, min);
+        let mut c = Calibrator::new(52, u64::MAX, 12, (1, 1000), [min, 0, 0]);
         for i in 0..52 {
             let j = f64::from(i / 4);
             let v = 500.0 * (1.0 - (core::f64::consts::PI * (j + 0.5) / 13.0).cos());
@@ -628,15 +719,92 @@ mod tests {
             .flat_map(|(r, &len)| core::iter::repeat_n(2000 + (r % 2) as u16, 4 * len))
             .collect();
         let verdict = |min: u32| {
-            let mut c = Calibrator::new(160, u64::MAX, 12, 1, min);
+            let mut c = Calibrator::new(160, u64::MAX, 12, (1, 1000), [min, 0, 0]);
             codes.iter().for_each(|&x| c.push(AdcCode(x)));
             c.finish()
         };
         assert!(verdict(16_384).is_ok(), "eta = the bound: rest");
         match verdict(steady_min_q16(40)) {
-            Err(CalibrationError::Unsteady { eta_q16, .. }) => assert_eq!(eta_q16, 16_384),
+            Err(CalibrationError::Unsteady { eta_q16, .. }) => {
+                assert_eq!(
+                    eta_q16,
+                    [16_384, u32::MAX, u32::MAX],
+                    "the others not tested"
+                )
+            }
             other => panic!("eta 1/4 under 0.43: {other:?}"),
         }
+    }
+
+    #[test]
+    fn a_window_is_motion_only_if_every_block_length_tested_says_so() {
+        // One-sample ticks: a sine of 0.245 cycles a sample beats at 0.02 cycles a 4-tick
+        // block (an alias: neighbouring sums agree, eta near 0) but turns 0.225 cycles a
+        // 5-tick block (eta 0.84): a vibration near the first length's rate, not a motion.
+        // Each length alone refuses or takes it; together they take it. A step is refused
+        // by all three.
+        let n = 2000;
+        let sine = |i: usize| {
+            let x = 2000.0 + 100.0 * (core::f64::consts::TAU * 0.245 * i as f64).sin();
+            x.round() as u16
+        };
+        let step = |i: usize| 2000 + 5 * u16::from(i >= n / 2);
+        let blocks = BLOCK_TICKS.map(|t| steady_min_q16(n as u32 / t));
+        let verdict = |f: &dyn Fn(usize) -> u16, mins: [u32; 3]| {
+            let mut c = Calibrator::new(n as u32, u64::MAX, 12, (1, 1000), mins);
+            (0..n).for_each(|i| c.push(AdcCode(f(i))));
+            c.finish()
+        };
+        assert!(
+            verdict(&sine, [blocks[0], 0, 0]).is_err(),
+            "4-tick blocks alone"
+        );
+        assert!(
+            verdict(&sine, [0, blocks[1], 0]).is_ok(),
+            "5-tick blocks alone"
+        );
+        assert!(
+            verdict(&sine, [0, 0, blocks[2]]).is_ok(),
+            "6-tick blocks alone"
+        );
+        assert!(
+            verdict(&sine, [blocks[0], 0, blocks[2]]).is_ok(),
+            "one veto is enough"
+        );
+        assert!(verdict(&sine, blocks).is_ok(), "all three: two veto");
+        match verdict(&step, blocks) {
+            Err(CalibrationError::Unsteady {
+                eta_q16, min_q16, ..
+            }) => {
+                assert!(
+                    (0..3).all(|l| eta_q16[l] < min_q16[l]),
+                    "{eta_q16:?} {min_q16:?}"
+                );
+            }
+            other => panic!("a step: {other:?}"),
+        }
+        // The message names each length tested, at the tick's length, with its ratio and
+        // bound.
+        let mut c = Calibrator::new(n as u32, u64::MAX, 12, (1, 5000), blocks);
+        (0..n).for_each(|i| c.push(AdcCode(step(i))));
+        let Err(e @ CalibrationError::Unsteady { eta_q16, .. }) = c.finish() else {
+            panic!("a step")
+        };
+        let [b0, b1, b2] = blocks.map(|b| f64::from(b) / 65_536.0);
+        let [e0, e1, e2] = eta_q16.map(|e| f64::from(e) / 65_536.0);
+        let want = std::format!(
+            "motion during calibration: neighbouring means agree more than noise lets them \
+             (von Neumann ratio {e0:.2} over 20 ms blocks, below {b0:.2}; {e1:.2} over 25 ms \
+             blocks, below {b1:.2}; {e2:.2} over 30 ms blocks, below {b2:.2}; at rest about 1)"
+        );
+        assert_eq!(e.to_string(), want);
+        let mut c = Calibrator::new(n as u32, u64::MAX, 12, (1, 5000), [blocks[0], 0, 0]);
+        (0..n).for_each(|i| c.push(AdcCode(step(i))));
+        let text = c.finish().expect_err("a step").to_string();
+        assert!(
+            text.contains("20 ms") && !text.contains("25 ms"),
+            "a length not tested: {text}"
+        );
     }
 
     #[test]
@@ -645,7 +813,7 @@ mod tests {
         let min = steady_min_q16(40);
         assert_eq!(min, 27_963); // round((1 - 3.719016 sqrt(38 / (41 * 39))) 2^16), by hand
         let window = |f: &dyn Fn(usize) -> u16| {
-            let mut c = Calibrator::new(160, u64::MAX, 12, 1, min);
+            let mut c = Calibrator::new(160, u64::MAX, 12, (1, 1000), [min, 0, 0]);
             (0..160).for_each(|i| c.push(AdcCode(f(i))));
             c.finish()
         };
@@ -655,20 +823,22 @@ mod tests {
         // A step of one code half-way: one jump of 4 between block sums, 40 blocks at +-2
         // from their mean: eta = 16 / (2 * 160) = 1/20.
         match window(&|i| 2000 + u16::from(i >= 80)) {
-            Err(CalibrationError::Unsteady { eta_q16, min_q16 }) => {
-                assert_eq!(min_q16, min);
-                assert_eq!(eta_q16, 65_536 / 20);
+            Err(CalibrationError::Unsteady {
+                eta_q16, min_q16, ..
+            }) => {
+                assert_eq!(min_q16, [min, 0, 0]);
+                assert_eq!(eta_q16, [65_536 / 20, u32::MAX, u32::MAX]);
             }
             other => panic!("a step: {other:?}"),
         }
         // The same step with the test off (bound 0), or in a window of 7 blocks: taken.
-        let mut off = Calibrator::new(160, u64::MAX, 12, 1, 0);
+        let mut off = Calibrator::new(160, u64::MAX, 12, (1, 1000), [0, 0, 0]);
         (0..160).for_each(|i| off.push(AdcCode(2000 + u16::from(i >= 80))));
         assert!(off.finish().is_ok());
-        let mut short = Calibrator::new(28, u64::MAX, 12, 1, min);
+        let mut short = Calibrator::new(28, u64::MAX, 12, (1, 1000), [min, 0, 0]);
         (0..28).for_each(|i| short.push(AdcCode(2000 + u16::from(i >= 16))));
         assert!(short.finish().is_ok(), "7 blocks are not tested");
-        let mut restarted = Calibrator::new(160, u64::MAX, 12, 1, min);
+        let mut restarted = Calibrator::new(160, u64::MAX, 12, (1, 1000), [min, 0, 0]);
         (0..160).for_each(|i| restarted.push(AdcCode(2000 + u16::from(i >= 80))));
         restarted.restart();
         (0..160).for_each(|i| restarted.push(AdcCode(2000 + ((i / 4) % 2) as u16)));
@@ -699,7 +869,7 @@ mod tests {
                     }
                 })
                 .collect();
-            let mut c = Calibrator::new(n as u32, u64::MAX, 16, tick as u32, 0);
+            let mut c = Calibrator::new(n as u32, u64::MAX, 16, (tick as u32, 1000), [0, 0, 0]);
             codes.iter().for_each(|&x| c.push(AdcCode(x)));
             let (tv, lv) = c.tick_variances();
             let (want_t, want_l) = tick_variances_f64(&codes, tick);
@@ -731,7 +901,7 @@ mod tests {
         // Ticks in a period of three, deviations +10, +10, -20: g0 = 200, g1 = g2 = -100, so
         // g0 + 2 g1 + 2 g2 = -200: the anticorrelation would claim less than no noise at all.
         // The long-run variance is held at g0 / 2.
-        let mut c = Calibrator::new(3000, u64::MAX, 12, 1, 0);
+        let mut c = Calibrator::new(3000, u64::MAX, 12, (1, 1000), [0, 0, 0]);
         for i in 0..3000 {
             c.push(AdcCode([2010, 2010, 1980][i % 3]));
         }
@@ -744,7 +914,7 @@ mod tests {
     fn four_ticks_are_enough_and_three_are_not() {
         // Ticks of one sample: with 4 the variances are measured (here far above the floor),
         // with 3 both are the floor of 1/4 LSB^2.
-        let mut c = Calibrator::new(4, u64::MAX, 12, 1, 0);
+        let mut c = Calibrator::new(4, u64::MAX, 12, (1, 1000), [0, 0, 0]);
         for x in [1000, 3000, 1000, 3000] {
             c.push(AdcCode(x));
         }
@@ -755,7 +925,7 @@ mod tests {
             c.tick_lags(),
             [-750_000 << 32, 500_000 << 32, -250_000 << 32]
         );
-        let mut c = Calibrator::new(3, u64::MAX, 12, 1, 0);
+        let mut c = Calibrator::new(3, u64::MAX, 12, (1, 1000), [0, 0, 0]);
         for x in [1000, 3000, 1000] {
             c.push(AdcCode(x));
         }
@@ -769,8 +939,8 @@ mod tests {
         // variance 1/16 LSB^2 = 4096 in Q16. At a bound of exactly that it is rest; one
         // below, motion.
         let codes = core::iter::once(2001).chain([2000; 15]);
-        let mut at = Calibrator::new(16, 4096, 12, 4, 0);
-        let mut below = Calibrator::new(16, 4095, 12, 4, 0);
+        let mut at = Calibrator::new(16, 4096, 12, (4, 1000), [0, 0, 0]);
+        let mut below = Calibrator::new(16, 4095, 12, (4, 1000), [0, 0, 0]);
         for x in codes {
             at.push(AdcCode(x));
             below.push(AdcCode(x));
@@ -795,7 +965,9 @@ mod tests {
         }
         .to_string();
         assert!(
-            motion.contains("motion") && motion.contains("3.000 LSB"),
+            motion.contains("too noisy")
+                && motion.contains("3.000 LSB")
+                && motion.contains("rest_noise_max_m_s2"),
             "{motion}"
         );
     }

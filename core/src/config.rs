@@ -238,13 +238,15 @@ impl Config {
         }
         let var_q16 = rest * rest * 65_536.0;
         let tick = crate::drift::tick_samples(self.fs_hz);
-        let blocks = window / (tick * crate::calibration::BLOCK_TICKS);
+        let tick_us = (u64::from(tick) * 1_000_000 / u64::from(self.fs_hz)) as u32;
+        let bounds = crate::calibration::BLOCK_TICKS
+            .map(|ticks| crate::calibration::steady_min_q16(window / (tick * ticks)));
         let calibrator = Calibrator::new(
             window,
             crate::math::round_to_u64(var_q16).max(1),
             self.adc_bits,
-            tick,
-            crate::calibration::steady_min_q16(blocks),
+            (tick, tick_us),
+            bounds,
         );
         let drift = match &self.drift {
             None => None,

@@ -218,10 +218,10 @@ fn a_window_noisier_than_the_rms_bound_restarts_calibration() {
 
 #[test]
 fn the_motion_test_counts_the_windows_20_ms_blocks() {
-    // At 3 kHz a 1 s window is 50 blocks of 60 samples (4 ticks of 15): its bound is 0.572.
-    // X one code up in 8 runs of 25 blocks in all, 16 changes among 50 blocks: a von Neumann
-    // ratio of 2 * 16 / 50 = 0.64, above the bound: rest. (Counted in other blocks, the
-    // window's ratio and bound would both be other numbers.)
+    // At 3 kHz a 1 s window is 50 blocks of 60 samples (4 ticks of 15): their bound is
+    // 0.485. X one code up in 8 runs of 25 blocks in all, 16 changes among 50 blocks: a von
+    // Neumann ratio of 2 * 16 / 50 = 0.64, above the bound: rest, whatever the 25 ms blocks
+    // find. (Counted in other blocks, the window's ratio and bound would be other numbers.)
     let high = [3usize, 3, 3, 3, 3, 3, 3, 4];
     let low = [3usize, 3, 3, 3, 3, 3, 3, 2, 2];
     let mut up = Vec::new();
@@ -263,8 +263,16 @@ fn a_tilt_during_calibration_restarts_it() {
     match t.feed(&window) {
         Some(Event::Rejected {
             axis: 0,
-            error: CalibrationError::Unsteady { .. },
-        }) => {}
+            error: e @ CalibrationError::Unsteady { .. },
+        }) => {
+            let text = e.to_string();
+            let lengths = [
+                "over 20 ms blocks",
+                "over 25 ms blocks",
+                "over 30 ms blocks",
+            ];
+            assert!(lengths.iter().all(|l| text.contains(l)), "{text}");
+        }
         other => panic!("expected rejection on X, got {other:?}"),
     }
     assert_eq!(t.phase(), Phase::Calibrating);
@@ -580,5 +588,48 @@ fn every_sample_fed_is_counted_with_and_without_drift_control() {
         }
         assert_eq!(tracker.phase(), Phase::Tracking);
         assert_eq!(tracker.counters().samples, samples.len() as u64);
+    }
+}
+
+#[test]
+fn the_motion_test_is_sized_to_the_windows_blocks_at_every_rate() {
+    // 1 s at 3 kHz: ticks of 15 samples, 50, 40 and 33 blocks of 4, 5 and 6 ticks; at 100 Hz
+    // ticks of one sample (10 ms), 25, 20 and 16 blocks; 0.2 s at 3 kHz, 10 blocks of 4
+    // ticks and fewer: too few to test.
+    let bounds = |fs_hz: u32, calibration_s: f64| {
+        Config {
+            fs_hz,
+            calibration_s,
+            ..cfg()
+        }
+        .validate()
+        .expect("valid")
+        .calibrator()
+        .steady_bounds_q16()
+    };
+    let min = imu_core::calibration::steady_min_q16;
+    assert_eq!(bounds(3000, 1.0), [min(50), min(40), min(33)]);
+    assert_eq!(bounds(100, 1.0), [min(25), min(20), min(16)]);
+    assert_eq!(bounds(3000, 0.2), [0, 0, 0]);
+    // The message names the blocks' lengths at the rate: 40, 50 and 60 ms at 100 Hz.
+    let mut t = Tracker::new(&Config {
+        fs_hz: 100,
+        ..cfg()
+    })
+    .expect("valid");
+    let window: Vec<[u16; 3]> = (0..100)
+        .map(|i| [2048 + if i >= 50 { 4 } else { 0 }, 2048, 2048])
+        .collect();
+    match t.feed(&window) {
+        Some(Event::Rejected { error, .. }) => {
+            let text = error.to_string();
+            let lengths = [
+                "over 40 ms blocks",
+                "over 50 ms blocks",
+                "over 60 ms blocks",
+            ];
+            assert!(lengths.iter().all(|l| text.contains(l)), "{text}");
+        }
+        other => panic!("a step at 100 Hz: {other:?}"),
     }
 }

@@ -169,7 +169,7 @@ fn a_bad_argument_is_named_on_stderr_with_status_2() {
         ),
         (
             vec!["mouse", "--trace", "drags:1", "--noise-ug", "1e9"],
-            "--noise-ug 1e9: must be above 0 and at most 1000",
+            "--noise-ug 1e9: must be above 0 and at most 5000",
         ),
         (
             vec!["mouse", "--trace", "drags:1", "--bits", "17"],

@@ -9,8 +9,9 @@ use serde::Serialize;
 use crate::world::scene::Scene;
 
 /// The device configuration for a scene's sensor: its rate, scale and ADC, and an at-rest
-/// bound of 4x its own noise (the default's margin for an ADXL335: 0.1 m/s^2 against
-/// 0.026 m/s^2); everything else the default.
+/// noise bound of 4x its own noise (a recording of the scene carries it in its profile: a
+/// replay of a noisier sensor under it is refused as too noisy); everything else the
+/// default.
 pub fn scene_config(scene: &Scene) -> Config {
     Config {
         fs_hz: scene.fs as u32,
