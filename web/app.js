@@ -228,6 +228,12 @@ const state = {
   track: null,
   path: [],
   recording: null,
+  // The device's own tracker state and cursor (COUNTERS, polled), and its path since the
+  // stream started.
+  device: null,
+  devicePath: [],
+  deviceFrom: null,
+  polling: false,
 };
 
 function status(text, error = false) {
@@ -342,7 +348,10 @@ async function refresh() {
   const { counters } = await s.request("COUNTERS");
   rows(
     $("counters").tBodies[0],
-    Object.entries(counters).map(([k, v]) => [k.replaceAll("_", " "), String(v)]),
+    Object.entries(counters).map(([k, v]) => [
+      k.replaceAll("_", " "),
+      Array.isArray(v) ? v.join(", ") : String(v),
+    ]),
   );
   const { calibration } = await s.request("CALIBRATION");
   rows(
@@ -535,31 +544,66 @@ function live(frame) {
   if (state.check) checkTake(frame.codes);
 }
 
-/** The cursor path since the stream started, x right and y down, at one scale for both. */
+/**
+ * The device's own tracker, four times a second while connected and no other request
+ * waits: its state, its cursor since power-up, and (streaming) its path since the stream
+ * started, beside the page's tracker's.
+ */
+async function pollDevice() {
+  const s = state.session;
+  if (!s || state.polling || s.pending.size) return;
+  state.polling = true;
+  try {
+    const { counters } = await s.request("COUNTERS");
+    if (state.session !== s || !counters) return;
+    state.device = counters;
+    if (state.streaming) {
+      state.deviceFrom ??= counters.counts;
+      const [x0, y0] = state.deviceFrom;
+      state.devicePath.push([counters.counts[0] - x0, counters.counts[1] - y0]);
+    }
+  } catch {
+    // A lost connection says so itself; the next poll tries again.
+  } finally {
+    state.polling = false;
+  }
+}
+
+/** The cursor paths since the stream started, x right and y down, at one scale for all. */
 function drawPath() {
   const t = state.track;
   $("drift-state").textContent = t ? t.state + (t.held ? ", holding a motion back" : "") : "-";
   $("cursor").textContent = t ? `${t.x}, ${t.y}` : "-";
+  const d = state.session ? state.device : null;
+  $("device-state").textContent = d ? d.tracker : "-";
+  $("device-cursor").textContent = d ? d.counts.join(", ") : "-";
   const canvas = $("path-plot");
   const g = canvas.getContext("2d");
   const w = canvas.width;
   const h = canvas.height;
   g.clearRect(0, 0, w, h);
-  const p = state.path ?? [];
-  if (p.length < 2) return;
-  const span = Math.max(50, ...p.map(([x, y]) => Math.max(Math.abs(x), Math.abs(y))));
+  const paths = [
+    [state.path ?? [], "#1d3557"],
+    [state.devicePath ?? [], "#e76f51"],
+  ];
+  const all = paths.flatMap(([p]) => p);
+  if (all.length < 2) return;
+  const span = Math.max(50, ...all.map(([x, y]) => Math.max(Math.abs(x), Math.abs(y))));
   const scale = (0.45 * Math.min(w, h)) / span;
-  g.strokeStyle = "#1d3557";
-  g.beginPath();
-  // At most 2000 points drawn: every k-th, and the last.
-  const k = Math.ceil(p.length / 2000);
-  p.forEach(([x, y], i) => {
-    if (i % k && i !== p.length - 1) return;
-    const [u, v] = [w / 2 + x * scale, h / 2 + y * scale];
-    if (i === 0) g.moveTo(u, v);
-    else g.lineTo(u, v);
-  });
-  g.stroke();
+  for (const [p, color] of paths) {
+    if (p.length < 2) continue;
+    g.strokeStyle = color;
+    g.beginPath();
+    // At most 2000 points drawn: every k-th, and the last.
+    const k = Math.ceil(p.length / 2000);
+    p.forEach(([x, y], i) => {
+      if (i % k && i !== p.length - 1) return;
+      const [u, v] = [w / 2 + x * scale, h / 2 + y * scale];
+      if (i === 0) g.moveTo(u, v);
+      else g.lineTo(u, v);
+    });
+    g.stroke();
+  }
   g.fillStyle = "#5a6470";
   g.fillText(`+-${span} counts`, 8, 14);
 }
@@ -631,6 +675,8 @@ async function stream(on) {
   state.streaming = on;
   if (on) {
     state.live = { codes: [], lost: 0, frames: 0, seq: null };
+    state.devicePath = [[0, 0]];
+    state.deviceFrom = null;
     // The device's tracker, from this stream's first sample (as `cargo lab replay` of a
     // recording started with it).
     restartTracker();
@@ -804,9 +850,10 @@ async function main() {
   $("live-start").onclick = guard(() => stream(true));
   $("live-stop").onclick = guard(() => stream(false));
   $("rec-start").onclick = guard(recordStart);
-  $("rec-stop").onclick = recordStop;
+  $("rec-stop").onclick = () => recordStop();
   $("check-start").onclick = guard(runCheck);
   setInterval(draw, 100);
+  setInterval(pollDevice, 250);
   document.body.dataset.ready = "true";
 }
 

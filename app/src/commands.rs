@@ -12,7 +12,8 @@
 
 use imu_core::profile::{Key, Profile, ProfileError};
 use imu_core::protocol::{
-    code, AxisCalibration, Counters, ErrorCode, Info, Request, Response, Source, PAIRS_MAX,
+    code, AxisCalibration, Counters, ErrorCode, Info, Request, Response, Source, TrackerState,
+    PAIRS_MAX,
 };
 use imu_core::Calibration;
 
@@ -71,6 +72,10 @@ pub struct View {
     pub reports: u32,
     /// Whether a raw stream runs, its frames sent and triples lost.
     pub stream: (bool, u32, u32),
+    /// The cursor's motion so far [counts] (right, down; [`imu_core::Reporter::added`]).
+    pub counts: [i64; 2],
+    /// What the tracker is doing.
+    pub tracker: TrackerState,
 }
 
 /// The configuration interface's state.
@@ -131,6 +136,8 @@ impl Commands {
                 rejected_windows: view.counters.rejected_windows,
                 stream_frames: view.stream.1,
                 stream_lost: view.stream.2,
+                counts: view.counts,
+                tracker: view.tracker,
             })),
             Request::Calibration => Reply::now(Response::Calibration(view.calibration.map(|c| {
                 c.map(|a| AxisCalibration {

@@ -10,7 +10,7 @@
 //! (`FrameError::response`), never dropped in silence.
 
 use imu_core::profile::AxisMap;
-use imu_core::protocol::{Frame, Request, Response, StreamFrame};
+use imu_core::protocol::{Frame, Request, Response, StreamFrame, TrackerState};
 use imu_core::{Phase, Tracker};
 use rtic_core::Mutex;
 use usb_device::bus::UsbBus;
@@ -33,6 +33,8 @@ pub trait Port {
     fn push_stream_frame(&mut self, frame: &StreamFrame) -> bool;
     /// Mouse reports sent so far.
     fn reports_sent(&self) -> u32;
+    /// The cursor's motion so far [counts] (right, down; [`imu_core::Reporter::added`]).
+    fn motion(&self) -> [i64; 2];
 }
 
 impl<B: UsbBus> Port for Mouse<'_, B> {
@@ -48,18 +50,25 @@ impl<B: UsbBus> Port for Mouse<'_, B> {
     fn reports_sent(&self) -> u32 {
         self.reports().reporter().reports()
     }
+    fn motion(&self) -> [i64; 2] {
+        let (x, y) = self.reports().reporter().added();
+        [x, y]
+    }
 }
 
 /// What the device knows for the read-only requests: the tracker, the calibration, the
-/// stream, and the board's `reports` sent and sampling `restarts`.
+/// stream, the board's `reports` sent and cursor `counts`, and sampling `restarts`.
 pub fn view(
     tracker: &mut impl Mutex<T = Tracker>,
     status: &mut impl Mutex<T = Status>,
     stream: &mut impl Mutex<T = Stream>,
-    reports: u32,
+    (reports, counts): (u32, [i64; 2]),
     restarts: u32,
 ) -> View {
-    let (tracking, counters) = tracker.lock(|t| (t.phase() == Phase::Tracking, t.counters()));
+    let (tracking, counters, state) = tracker.lock(|t| {
+        let tracking = t.phase() == Phase::Tracking;
+        (tracking, t.counters(), TrackerState::of(t))
+    });
     let (on, (frames, lost)) = stream.lock(|s| (s.on(), s.totals()));
     View {
         tracking,
@@ -68,6 +77,8 @@ pub fn view(
         restarts,
         reports,
         stream: (on, frames, lost),
+        counts,
+        tracker: state,
     }
 }
 
@@ -111,8 +122,8 @@ where
     let bytes = &frame[..len.min(frame.len())];
     let (tag, reply) = match Request::decode(bytes) {
         Ok((tag, req)) => {
-            let reports = mouse.lock(|m| m.reports_sent());
-            let v = view(r.tracker, r.status, r.stream, reports, restarts());
+            let sent = mouse.lock(|m| (m.reports_sent(), m.motion()));
+            let v = view(r.tracker, r.status, r.stream, sent, restarts());
             (tag, r.commands.lock(|c| c.handle(tag, req, &v)))
         }
         Err(e) => {

@@ -4,7 +4,9 @@
 use imu_app::commands::{Commands, Effect, View};
 use imu_app::identity::FIRMWARE_VERSION;
 use imu_core::profile::{Key, Profile};
-use imu_core::protocol::{code, ErrorCode, Info, Request, Response, Source, PAIRS_MAX};
+use imu_core::protocol::{
+    code, ErrorCode, Info, Request, Response, Source, TrackerState, PAIRS_MAX,
+};
 use imu_core::{Calibration, Counters};
 
 const CLOCK: u32 = 96_000_000;
@@ -48,6 +50,8 @@ fn info_counters_and_calibration_report_the_view() {
         restarts: 4,
         reports: 5,
         stream: (true, 6, 7),
+        counts: [-11, 12],
+        tracker: TrackerState::Lifted,
     };
     let mut c = Commands::new(
         Profile::default(),
@@ -76,6 +80,7 @@ fn info_counters_and_calibration_report_the_view() {
         (10, 2, 4, 5, 3)
     );
     assert_eq!((k.stream_frames, k.stream_lost), (6, 7));
+    assert_eq!((k.counts, k.tracker), ([-11, 12], TrackerState::Lifted));
     let Response::Calibration(Some(axes)) = r(&mut c, Request::Calibration) else {
         panic!("calibration")
     };

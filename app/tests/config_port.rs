@@ -294,6 +294,7 @@ fn a_request_through_the_real_mouse_is_answered_on_its_in_endpoint() {
         panic!("{r:?}")
     };
     assert_eq!((tag, c.reports), (4, 3), "the opening report and the two");
+    assert_eq!(c.counts, [5, 0], "the cursor's counts: 3 and 2 right");
     serve(&mut mouse, Request::StreamStart, 5);
     stream.push(&[[7, 8, 9]], 0);
     control::push_stream(&mut Exclusive(&mut mouse), &mut Exclusive(&mut stream));

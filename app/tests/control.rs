@@ -11,7 +11,7 @@ use imu_app::stream::Stream;
 use imu_app::Status;
 use imu_core::profile::{AxisMap, Key, Profile};
 use imu_core::protocol::{
-    code, ErrorCode, Frame, Request, Response, Source, StreamFrame, FRAME_LEN,
+    code, ErrorCode, Frame, Request, Response, Source, StreamFrame, TrackerState, FRAME_LEN,
 };
 use imu_core::{Phase, Tracker};
 use rtic_core::Exclusive;
@@ -41,6 +41,9 @@ impl Port for FakePort {
     }
     fn reports_sent(&self) -> u32 {
         self.reports
+    }
+    fn motion(&self) -> [i64; 2] {
+        [-i64::from(self.reports), 2 * i64::from(self.reports)]
     }
 }
 
@@ -134,6 +137,11 @@ fn a_request_is_answered_with_its_tag_and_the_devices_counts() {
     };
     assert_eq!((c.reports, c.restarts, c.lost), (42, 7, 4));
     assert_eq!((c.stream_frames, c.stream_lost), (0, 5));
+    // The port's cursor counts, and the tracker's state (calibrating: nothing fed yet).
+    assert_eq!(
+        (c.counts, c.tracker),
+        ([-42, 84], TrackerState::Calibrating)
+    );
     let info = |d: &mut Device| match d.ask(1, &Request::Info).1.pop() {
         Some((1, Response::Info(i))) => i,
         other => panic!("{other:?}"),

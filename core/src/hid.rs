@@ -180,6 +180,28 @@ impl Reporter {
         self.sent
     }
 
+    /// Every count added so far [counts] (right, down), wrapping: sent, in flight, owed or
+    /// discarded (the cursor's motion as the tracker produced it, whether or not a host
+    /// took it).
+    pub const fn added(&self) -> (i64, i64) {
+        let (f0, f1) = match self.in_flight {
+            Some((x, y)) => (x as i64, y as i64),
+            None => (0, 0),
+        };
+        (
+            self.sent
+                .0
+                .wrapping_add(self.discarded.0)
+                .wrapping_add(f0)
+                .wrapping_add(self.dx),
+            self.sent
+                .1
+                .wrapping_add(self.discarded.1)
+                .wrapping_add(f1)
+                .wrapping_add(self.dy),
+        )
+    }
+
     /// Motion dropped so far because the host was not listening [counts], wrapping.
     pub const fn discarded(&self) -> (i64, i64) {
         self.discarded

@@ -28,7 +28,7 @@ use heapless::Vec;
 use crate::profile::Key;
 
 /// Protocol version this firmware speaks (byte 0 of every frame).
-pub const VERSION: u8 = 1;
+pub const VERSION: u8 = 2;
 /// Length of every frame [bytes]: one full-speed HID report.
 pub const FRAME_LEN: usize = 64;
 /// Largest payload [bytes].
@@ -182,6 +182,71 @@ pub struct Info {
     pub streaming: bool,
 }
 
+/// What the tracker is doing, as [`Response::Counters`] reports it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TrackerState {
+    /// Calibrating: nothing is integrated yet.
+    #[default]
+    Calibrating = 0,
+    /// Tracking without drift control: every sample is integrated (the paper's pipeline).
+    Integrating = 1,
+    /// At rest ([`crate::DriftState::Still`]).
+    Still = 2,
+    /// A motion, delivered as it is integrated.
+    Moving = 3,
+    /// A motion held back: younger than its hold, or held by the tilt tests.
+    Held = 4,
+    /// Lifted off the desk: tracking suspended until it rests.
+    Lifted = 5,
+    /// After a button edge: motion suppressed for the click freeze.
+    Frozen = 6,
+}
+
+impl TrackerState {
+    /// From its wire byte.
+    pub const fn from_u8(b: u8) -> Option<Self> {
+        Some(match b {
+            0 => Self::Calibrating,
+            1 => Self::Integrating,
+            2 => Self::Still,
+            3 => Self::Moving,
+            4 => Self::Held,
+            5 => Self::Lifted,
+            6 => Self::Frozen,
+            _ => return None,
+        })
+    }
+
+    /// `tracker`'s state now.
+    pub fn of(tracker: &crate::Tracker) -> Self {
+        use crate::DriftState;
+        if tracker.phase() == crate::Phase::Calibrating {
+            return Self::Calibrating;
+        }
+        match tracker.drift_state() {
+            None => Self::Integrating,
+            Some(DriftState::Still) => Self::Still,
+            Some(DriftState::Moving) if tracker.is_holding() => Self::Held,
+            Some(DriftState::Moving) => Self::Moving,
+            Some(DriftState::Lifted) => Self::Lifted,
+            Some(DriftState::Frozen) => Self::Frozen,
+        }
+    }
+
+    /// Its name, as the host tool and the settings page show it.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Calibrating => "calibrating",
+            Self::Integrating => "integrating",
+            Self::Still => "still",
+            Self::Moving => "moving",
+            Self::Held => "held",
+            Self::Lifted => "lifted",
+            Self::Frozen => "frozen",
+        }
+    }
+}
+
 /// [`Response::Counters`]'s content.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Counters {
@@ -199,6 +264,12 @@ pub struct Counters {
     pub stream_frames: u32,
     /// Sample triples the stream could not carry (queue full).
     pub stream_lost: u32,
+    /// The cursor's motion since power-up [counts] (right, down; wrapping): every count
+    /// the tracker produced, whether a host took it, it is still owed, or it was dropped
+    /// while no host listened ([`crate::Reporter::added`]).
+    pub counts: [i64; 2],
+    /// What the tracker is doing.
+    pub tracker: TrackerState,
 }
 
 /// One axis of [`Response::Calibration`].
@@ -518,6 +589,9 @@ impl Response {
                 .put(&c.rejected_windows.to_le_bytes())
                 .put(&c.stream_frames.to_le_bytes())
                 .put(&c.stream_lost.to_le_bytes())
+                .put(&c.counts[0].to_le_bytes())
+                .put(&c.counts[1].to_le_bytes())
+                .put(&[c.tracker as u8])
                 .done(),
             Self::Calibration(cal) => {
                 let mut w = Writer::new(code::answer(code::CALIBRATION), tag);
@@ -582,6 +656,8 @@ impl Response {
                 rejected_windows: p.u32()?,
                 stream_frames: p.u32()?,
                 stream_lost: p.u32()?,
+                counts: [p.i64()?, p.i64()?],
+                tracker: TrackerState::from_u8(p.u8()?).ok_or(FrameError::Payload)?,
             }),
             x if x == code::answer(code::CALIBRATION) => {
                 if p.u8()? == 0 {

@@ -192,6 +192,7 @@ impl Host {
             (sent.0 + dropped.0 + owed.0, sent.1 + dropped.1 + owed.1),
             "moved = sent + discarded + owed"
         );
+        assert_eq!(r.added(), self.moved, "added = every count moved");
     }
 }
 

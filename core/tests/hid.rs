@@ -152,6 +152,7 @@ fn every_count_is_sent_discarded_or_owed() {
     let (dx, dy) = r.discarded();
     let (ox, oy) = r.undelivered();
     assert_eq!((sx + dx + ox, sy + dy + oy), (added_x, added_y));
+    assert_eq!(r.added(), (added_x, added_y));
     assert!(
         dx != 0 && sx != 0,
         "both paths taken: sent {sx}, discarded {dx}"
@@ -164,9 +165,10 @@ fn a_report_is_sent_when_the_host_takes_it_and_lost_if_the_bus_resets_first() {
     r.add_motion(30, -4);
     let rep = r.pending().expect("motion");
     r.accepted(&rep);
-    // In the endpoint: no longer owed, not yet sent.
+    // In the endpoint: no longer owed, not yet sent, still added.
     assert_eq!(r.undelivered(), (0, 0));
     assert_eq!(r.in_flight(), (30, -4));
+    assert_eq!(r.added(), (30, -4));
     assert_eq!((r.sent_total(), r.reports()), ((0, 0), 0));
     r.delivered();
     assert_eq!(

@@ -5,9 +5,9 @@ use imu_core::bench::testsignal::Trace;
 use imu_core::profile::{AxisMap, Key, Kind, Profile, ProfileError, RecordError, RECORD_LEN};
 use imu_core::protocol::{
     code, header, AxisCalibration, Counters, ErrorCode, FrameError, Info, Request, Response,
-    Source, StreamFrame, FRAME_LEN, PAIRS_MAX, VERSION,
+    Source, StreamFrame, TrackerState, FRAME_LEN, PAIRS_MAX, VERSION,
 };
-use imu_core::{Config, ConfigError, DriftError};
+use imu_core::{Config, ConfigError, DriftError, Tracker};
 
 fn pairs(p: &[(Key, f64)]) -> heapless::Vec<(Key, f64), PAIRS_MAX> {
     heapless::Vec::from_slice(p).expect("at most six pairs")
@@ -96,6 +96,8 @@ fn responses() -> Vec<Response> {
             rejected_windows: 4,
             stream_frames: 5,
             stream_lost: 6,
+            counts: [i64::MIN, -7],
+            tracker: TrackerState::Held,
         }),
         Response::Calibration(None),
         Response::Calibration(Some([cal, cal, AxisCalibration::default()])),
@@ -133,10 +135,14 @@ fn every_response_and_error_round_trips() {
 
 #[test]
 fn foreign_versions_and_codes_are_named() {
-    let mut f = Request::Info.encode(1);
-    f[0] = 2;
-    assert_eq!(Request::decode(&f), Err(FrameError::Version(2)));
-    assert_eq!(FrameError::Version(2).response(), ErrorCode::Version(2));
+    // The version before (protocol 1 had no cursor counts or tracker state in its
+    // counters) and the one after are both named.
+    for v in [VERSION - 1, VERSION + 1] {
+        let mut f = Request::Info.encode(1);
+        f[0] = v;
+        assert_eq!(Request::decode(&f), Err(FrameError::Version(v)));
+        assert_eq!(FrameError::Version(v).response(), ErrorCode::Version(v));
+    }
     let mut f = Request::Info.encode(1);
     f[1] = 0x33;
     assert_eq!(Request::decode(&f), Err(FrameError::Code(0x33)));
@@ -489,4 +495,53 @@ fn an_axis_beyond_z_is_not_a_valid_map() {
     ] {
         assert!(!bad.is_valid(), "{bad:?}");
     }
+}
+
+#[test]
+fn the_trackers_state_has_a_byte_each_and_follows_the_tracker() {
+    let names = [
+        "calibrating",
+        "integrating",
+        "still",
+        "moving",
+        "held",
+        "lifted",
+        "frozen",
+    ];
+    for (b, name) in (0..=6u8).zip(names) {
+        let t = TrackerState::from_u8(b).expect("a state");
+        assert_eq!((t as u8, t.name()), (b, name));
+    }
+    assert_eq!(TrackerState::from_u8(7), None);
+    let rest = [[2048u16, 2048, 2048 + 418]; 3000]; // 1 s still, +1 g on Z
+    let mut off = Tracker::new(&Config {
+        drift: None,
+        ..Config::default()
+    })
+    .expect("valid");
+    assert_eq!(TrackerState::of(&off), TrackerState::Calibrating);
+    off.feed(&rest);
+    assert_eq!(TrackerState::of(&off), TrackerState::Integrating);
+    let mut t = Tracker::new(&Config::default()).expect("valid");
+    t.feed(&rest);
+    assert_eq!(TrackerState::of(&t), TrackerState::Still);
+    // A hard push on X: held while younger than the hold (16 ms), then moving.
+    let mut seen = heapless::Vec::<TrackerState, 8>::new();
+    for _ in 0..300 {
+        t.feed(&[[2448, 2048, 2466]]);
+        let now = TrackerState::of(&t);
+        if seen.last() != Some(&now) {
+            seen.push(now).expect("few states");
+        }
+    }
+    assert_eq!(
+        seen.as_slice(),
+        [
+            TrackerState::Still,
+            TrackerState::Held,
+            TrackerState::Moving
+        ]
+    );
+    t.button_edge();
+    assert_eq!(TrackerState::of(&t), TrackerState::Frozen);
 }

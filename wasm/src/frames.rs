@@ -101,14 +101,18 @@ fn response(j: &mut Json<'_>, tag: u8, r: &Response) -> fmt::Result {
         Response::Counters(c) => write!(
             j,
             "\"counters\":{{\"samples\":{},\"lost\":{},\"restarts\":{},\"reports\":{},\
-             \"rejected_windows\":{},\"stream_frames\":{},\"stream_lost\":{}}}",
+             \"rejected_windows\":{},\"stream_frames\":{},\"stream_lost\":{},\
+             \"counts\":[{},{}],\"tracker\":\"{}\"}}",
             c.samples,
             c.lost,
             c.restarts,
             c.reports,
             c.rejected_windows,
             c.stream_frames,
-            c.stream_lost
+            c.stream_lost,
+            c.counts[0],
+            c.counts[1],
+            c.tracker.name()
         )?,
         Response::Calibration(None) => j.raw("\"calibration\":null")?,
         Response::Calibration(Some(axes)) => {
@@ -246,6 +250,13 @@ mod tests {
             ..Counters::default()
         });
         assert!(json_of(&c.encode(6)).contains("\"samples\":1099511627776"));
+        let c = Response::Counters(Counters {
+            counts: [-3, i64::MAX],
+            tracker: imu_core::protocol::TrackerState::Frozen,
+            ..Counters::default()
+        });
+        assert!(json_of(&c.encode(6))
+            .contains("\"counts\":[-3,9223372036854775807],\"tracker\":\"frozen\"}"));
         assert_eq!(json_of(&[1, 2]), "{\"bad\":\"Truncated\"}");
     }
 

@@ -81,7 +81,7 @@ function configGet() {
 
 /**
  * A page connected through its own `cargo lab ui` to its own twin (`lab twin ...twinArgs`),
- * and a function that stops both; page errors are kept under `name`.
+ * a function that stops both, and the twin's address; page errors are kept under `name`.
  */
 async function connectedTo(context, twinArgs, name) {
   const addr = `127.0.0.1:${await freePort()}`;
@@ -100,7 +100,20 @@ async function connectedTo(context, twinArgs, name) {
       server.kill();
       twin.kill();
     },
+    addr,
   ];
+}
+
+/** `cargo lab device --twin addr --json info`, once the twin is free (a page let it go). */
+async function infoOf(addr) {
+  for (let t = 0; ; t++) {
+    try {
+      return JSON.parse(execFileSync(lab, ["device", "--twin", addr, "--json", "info"]));
+    } catch (e) {
+      if (t >= 50) throw e;
+      await new Promise((ok) => setTimeout(ok, 100));
+    }
+  }
 }
 
 const browser = await chromium.launch({
@@ -272,7 +285,7 @@ try {
   await page.click("#live-stop");
   await waitStatus(/^Stream stopped: \d+ frames, 0 lost\.$/);
   const fast = await page.textContent("#rec-download");
-  const m = /\((\d+) samples, 0 frames lost\)/.exec(fast);
+  const m = /^Download the recording \((\d+) samples, 0 frames lost\)$/.exec(fast);
   check(m && Number(m[1]) > 10000, `at 10 kHz: ${fast}`);
   await page.fill("#key-fs_hz", "3000");
   await page.click("#apply");
@@ -385,7 +398,11 @@ try {
 
   // The guided check on a twin playing the check scene (still, a stroke right at 6.5 s and
   // one away at 11.5 s, from the first host on): the lab's verdict, on the page.
-  const [c, stopCheck] = await connectedTo(context, ["--scene", "check", "--repeat"], "check");
+  const [c, stopCheck, checkAddr] = await connectedTo(
+    context,
+    ["--scene", "check", "--repeat"],
+    "check",
+  );
   try {
     await c.click("#check-start");
     check(
@@ -412,7 +429,28 @@ try {
     );
     check(await c.isVisible("#check-plot"), "the check's chart shows");
     await c.screenshot({ path: join(shots, "check.png"), fullPage: true });
+    // The device's own cursor, as the page shows it from COUNTERS: the scene's two 10 cm
+    // strokes (800 counts per inch: 3150 counts each), right and then away (up), once its
+    // tracker is still again; and the twin's count total, read by the CLI once the page has
+    // let it go, is the same (the scene rests from 12 s to 21.5 s of its 15 s loop).
+    await c.waitForFunction(
+      () => document.getElementById("device-state").textContent === "still",
+      null,
+      { timeout: 10000 },
+    );
+    await c.waitForTimeout(600);
+    const shown = (await c.textContent("#device-cursor")).split(", ").map(Number);
     await c.click("#disconnect");
+    const info = await infoOf(checkAddr);
+    check(
+      info.counts[0] === shown[0] && info.counts[1] === shown[1],
+      `the page's device cursor ${shown} is the twin's count total ${info.counts} (cargo lab device info)`,
+    );
+    check(
+      shown[0] > 2800 && shown[0] < 3500 && shown[1] < -2800 && shown[1] > -3500,
+      `the device's cursor went 10 cm right and 10 cm up (${shown} counts)`,
+    );
+    check(info.tracker === "still", `the device says it is still (${info.tracker})`);
   } finally {
     stopCheck();
   }

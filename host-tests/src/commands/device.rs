@@ -197,6 +197,10 @@ struct InfoOut {
     restarts: u32,
     reports: u32,
     rejected_windows: u32,
+    /// The cursor's motion since power-up [counts] (right, down).
+    counts: [i64; 2],
+    /// What the tracker is doing (`TrackerState::name`).
+    tracker: &'static str,
     /// Per tracker axis (cursor x, cursor y, vertical): bias and rms noise [LSB].
     calibration: Option<Vec<(f64, f64)>>,
 }
@@ -228,6 +232,8 @@ fn info<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
         restarts: k.restarts,
         reports: k.reports,
         rejected_windows: k.rejected_windows,
+        counts: k.counts,
+        tracker: k.tracker.name(),
         calibration: cal.map(|axes| zeros(&axes)),
     };
     if json {
@@ -235,21 +241,23 @@ fn info<L: Link>(c: &mut Client<L>, json: bool) -> Outcome {
     }
     let mut s = format!(
         "firmware {} (protocol {}), profile: {}\nfs {} Hz, {}\nsamples {} lost {} restarts {} \
-         reports {} rejected calibration windows {}",
+         reports {} rejected calibration windows {}\ncursor {}, {} counts since power-up (right, down)",
         out.firmware,
         out.protocol,
         out.profile,
         out.fs_hz,
         if out.tracking {
-            "tracking"
+            format!("tracking ({})", out.tracker)
         } else {
-            "calibrating"
+            "calibrating".into()
         },
         out.samples,
         out.lost,
         out.restarts,
         out.reports,
-        out.rejected_windows
+        out.rejected_windows,
+        out.counts[0],
+        out.counts[1]
     );
     match &out.calibration {
         None => s.push_str("\nnot calibrated yet"),
