@@ -401,7 +401,7 @@ impl Calibrator {
             self.var_max_q16,
             self.rail.count_ones() as u8,
             (self.tick, self.tick_us),
-            self.blocks.map(|b| b.min_q16),
+            self.steady_bounds_q16(),
         );
     }
 
