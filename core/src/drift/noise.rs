@@ -187,8 +187,12 @@ pub struct Disturbance {
     /// The expectations times the long average's margin, `E m` (the same units): fixed by the
     /// calibration, so computed once, not per tick.
     margin_q32: [u128; 2],
-    /// The squared residual a burst exceeds, `floor(E k^2 / 2^32)` [LSB^2 (L1 L2)^2].
-    burst_r2: u128,
+    /// The residual a burst exceeds, `floor(sqrt(floor(E k^2 / 2^32)))` [LSB (L1 L2)]: `r^2 >
+    /// N` exactly when `|r| > floor(sqrt(N))`, so a tick compares, not squares, in 128 bits.
+    burst_r: u64,
+    /// The powers at or below which the excess is zero, so that a tick at rest decides it
+    /// in 64 bits: `[long, upper, lower]` (see [`Quiet`]).
+    quiet: Quiet,
     /// The last residual.
     last: i64,
     /// The amplitude `A` of a sinusoid that would explain the excess [Q16 LSB samples, per
@@ -199,6 +203,39 @@ pub struct Disturbance {
     /// Whether the last tick's residual alone stood out of the noise (the margin's number of
     /// its sd): a disturbance the averages have not caught up with yet.
     pub(crate) burst: bool,
+}
+
+/// The averages' levels at or below which the excess is zero [LSB^2 (L1 L2)^2]; each is the
+/// 128-bit test of [`Disturbance::update`] solved for the 64-bit power once, at calibration
+/// (`x 2^j c <= N` exactly when `x <= floor(floor(N / 2^j) / c)` for whole `x`), and
+/// saturated at `u64::MAX`, which every power is at or below.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Quiet {
+    /// The long average is within its margin: `P 2^32 <= E m`.
+    long: u64,
+    /// The short average's upper bound is at or below `E`: `P_short (1 + m) <= E`.
+    upper: u64,
+    /// The short average's lower bound is at or below `E`: `P_short (1 - m) <= E`.
+    lower: u64,
+}
+
+impl Quiet {
+    /// The levels for expectation `e0` and long margin `margin0` (Q32) and the short
+    /// average's margin `1 + m` in Q8 (`short_q8 >= 256`).
+    fn new(e0: u128, margin0: u128, short_q8: u64) -> Self {
+        let m = u128::from(short_q8 - 256);
+        let sat = |x: u128| x.min(u128::from(u64::MAX)) as u64;
+        // P_short c 2^24 <= e0, c the margin factor in Q8 (P_short 2^32 c / 2^8).
+        let level = |c: u128| match c {
+            0 => u64::MAX,
+            c => sat((e0 >> 24) / c),
+        };
+        Self {
+            long: sat(margin0 >> 32),
+            upper: level(256 + m),
+            lower: level(256u128.saturating_sub(m)),
+        }
+    }
 }
 
 /// `Var(sum_i c_i s[t-i])` for tick sums with covariances `cov(lag)` (zero beyond lag 3).
@@ -249,7 +286,10 @@ impl Disturbance {
             power: [0, 1, 0].map(|i| (expect_q32[i] >> 32).min(u128::from(u64::MAX)) as u64),
             expect_q32,
             margin_q32: expect_q32.map(margin),
-            burst_r2: (expect_q32[0].saturating_mul(u128::from(s.burst_k2_q8)) >> 8) >> 32,
+            burst_r: crate::math::isqrt_u128(
+                (expect_q32[0].saturating_mul(u128::from(s.burst_k2_q8)) >> 8) >> 32,
+            ) as u64,
+            quiet: Quiet::new(expect_q32[0], margin(expect_q32[0]), s.dist_margin_short_q8),
             last: 0,
             amp_q16: 0,
             bin: 0,
@@ -277,8 +317,9 @@ impl Disturbance {
     pub(crate) fn update(&mut self, s: &DriftSettings, stream: &TickStream, axis: usize) {
         let r = stream.band_residual(s, axis);
         let diff = r - core::mem::replace(&mut self.last, r);
-        // r^2 2^32 > E k^2 as r^2 > floor(E k^2 / 2^32): the same test, its bound fixed.
-        self.burst = u128::from(r.unsigned_abs()).pow(2) > self.burst_r2;
+        // r^2 2^32 > E k^2 as r^2 > floor(E k^2 / 2^32), as |r| > its floored root: the same
+        // test, its bound fixed.
+        self.burst = r.unsigned_abs() > self.burst_r;
         let l = u64::from(s.band[0] * s.band[1]);
         // A burst's own amplitude, until the averages catch up (Q16 LSB per tick sum).
         let burst_q16 = if self.burst {
@@ -295,6 +336,14 @@ impl Disturbance {
             } else {
                 *p - ((*p - x2) >> k)
             };
+        }
+        // At rest the excess is zero: the upper bound at or below E, or neither the long
+        // average nor the short one's lower bound above theirs. Decided in 64 bits.
+        let q = &self.quiet;
+        if self.power[2] <= q.upper || (self.power[0] <= q.long && self.power[2] <= q.lower) {
+            self.amp_q16 = burst_q16;
+            self.bin = 0;
+            return;
         }
         let p = self.power.map(|p| u128::from(p) << 32);
         let e0 = self.expect_q32[0];
@@ -332,5 +381,67 @@ impl Disturbance {
                 .take_while(|&&edge| u128::from(edge).checked_mul(den).is_some_and(|m| num >= m))
                 .count() as u8
         };
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The excess by its 128-bit definition ([`Disturbance::update`]): zero or not.
+    fn excess_is_zero(p0: u64, p2: u64, e0: u128, margin0: u128, short_q8: u64) -> bool {
+        let m = u128::from(short_q8 - 256);
+        let short = |c: u128| (u128::from(p2) * c) << 24;
+        let upper = short(256 + m).saturating_sub(e0);
+        let lower = short(256u128.saturating_sub(m)).saturating_sub(e0);
+        let p = u128::from(p0) << 32;
+        let long = if p > margin0 { p - e0 } else { 0 };
+        long.max(lower).min(upper) == 0
+    }
+
+    #[test]
+    fn the_quiet_levels_decide_as_the_128_bit_excess_does() {
+        // Expectations from tiny to past 2^64 after the shifts, margins either side of 2 (the
+        // short one's lower factor then saturates at 0), powers at, below and above each level.
+        for e0 in [
+            0u128,
+            1,
+            1 << 24,
+            (1 << 40) + 12_345,
+            3 << 70,
+            u128::MAX >> 20,
+        ] {
+            for short_q8 in [256u64, 300, 511, 512, 700] {
+                for m_q8 in [256u128, 333, 768] {
+                    let margin0 = e0.saturating_mul(m_q8) >> 8;
+                    let q = Quiet::new(e0, margin0, short_q8);
+                    let levels = [q.long, q.upper, q.lower, 0, 1, u64::MAX];
+                    for &a in &levels {
+                        for &b in &levels {
+                            for p0 in [a.saturating_sub(1), a, a.saturating_add(1)] {
+                                for p2 in [b.saturating_sub(1), b, b.saturating_add(1)] {
+                                    let fast = p2 <= q.upper || (p0 <= q.long && p2 <= q.lower);
+                                    assert_eq!(
+                                        fast,
+                                        excess_is_zero(p0, p2, e0, margin0, short_q8),
+                                        "e0 {e0} short {short_q8} margin {m_q8} p0 {p0} p2 {p2}"
+                                    );
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_burst_is_a_residual_whose_square_passes_the_bound() {
+        for r2 in [0u128, 1, 2, 99, 100, 101, (1 << 62) + 7, (1 << 90) - 1] {
+            let root = crate::math::isqrt_u128(r2) as u64;
+            for r in [root.saturating_sub(1), root, root + 1, root + 2] {
+                assert_eq!(r > root, u128::from(r).pow(2) > r2, "r {r} bound {r2}");
+            }
+        }
     }
 }
