@@ -201,8 +201,11 @@ impl Detector {
         // no 128-bit division per tick).
         let q = u128::from(self.noise[2].q_q32);
         let var = q.saturating_mul(u128::from(l.cube_4_3)).saturating_add(
-            q.saturating_mul(u128::from(l.cube / self.bias_samples.max(1)))
-                .saturating_mul(n),
+            q.saturating_mul(u128::from(crate::math::div_u64(
+                l.cube,
+                self.bias_samples.max(1),
+            )))
+            .saturating_mul(n),
         );
         let horizontal =
             (x.unsigned_abs() + y.unsigned_abs()).saturating_mul(u128::from(l.mount_q16)) >> 16;
@@ -271,7 +274,10 @@ impl Detector {
                 let di = crate::math::div_round(oi, ni as i64) * n as i64;
                 let dj = crate::math::div_round(oj, nj as i64) * n as i64;
                 let desk = self.disturbance[a].with_amplitude(self.lift.desk[a]);
-                let allow = desk.allow(desk.gains(s).land_q16, n / u64::from(s.tick));
+                let allow = desk.allow(
+                    desk.gains(s).land_q16,
+                    crate::math::div_u64(n, u64::from(s.tick)),
+                );
                 within(di - dj, noise.var(2 * n, u64::MAX), s.k2_q8, 2 * allow)
             };
             if !(steady(0, 1) && steady(1, 2)) {

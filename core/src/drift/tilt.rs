@@ -123,7 +123,10 @@ impl Detector {
             bias,
         );
         let d = &self.disturbance[axis];
-        let allow = d.allow(d.gains(s).sub_q16[scale], n / u64::from(s.tick));
+        let allow = d.allow(
+            d.gains(s).sub_q16[scale],
+            crate::math::div_u64(n, u64::from(s.tick)),
+        );
         let var = self.noise[axis].var(n, self.bias_samples);
         if within(o, var, s.k2_q8, allow) {
             0
@@ -329,7 +332,10 @@ impl Detector {
                     offset_q16(self.stream.blocks_sum(a, back + 1, back + m + 1), n, *b)
                 });
                 let d = &self.disturbance[a];
-                let allow = 2 * d.allow(d.gains(s).sub_q16[0], n / u64::from(s.tick));
+                let allow = 2 * d.allow(
+                    d.gains(s).sub_q16[0],
+                    crate::math::div_u64(n, u64::from(s.tick)),
+                );
                 let var = self.noise[a].var(2 * n, u64::MAX);
                 if !(within(o[0] - o[1], var, s.k2_q8, allow)
                     && within(o[1] - o[2], var, s.k2_q8, allow))
@@ -376,7 +382,10 @@ impl Detector {
             let sum = offset_q16(self.stream.blocks_sum(a, m + 1, 4 * m + 1), 3 * n, *b);
             if a < 2 {
                 let d = &self.disturbance[a];
-                let allow = d.allow(d.gains(s).sub_q16[0], 3 * n / u64::from(s.tick));
+                let allow = d.allow(
+                    d.gains(s).sub_q16[0],
+                    crate::math::div_u64(3 * n, u64::from(s.tick)),
+                );
                 let var = self.noise[a].var(3 * n, self.bias_samples);
                 significant |= !within(sum, var, s.k2_q8, allow);
             }
