@@ -38,6 +38,10 @@ pub struct Readout {
     half_hi: i64,
     /// `2^(P-32) - 1`: the mask of the upper part of a remainder below `2^P`.
     mask_hi: i64,
+    /// `2^(P-1)` and `2^P` when `split`, else 0 and 0: a carry `c` is idle when `c + 2^(P-1)`
+    /// lies in `[0, 2^P)` ([`Self::is_idle`]).
+    idle_half: i128,
+    idle_span: u128,
 }
 
 /// Whether `-2^bits <= v < 2^bits`: the bounds of the read-out's 64-bit pieces.
@@ -88,6 +92,8 @@ impl Readout {
             shift_hi,
             half_hi: if split { 1 << (shift_hi - 1) } else { 0 },
             mask_hi: (1 << shift_hi) - 1,
+            idle_half: if split { 1 << (shift - 1) } else { 0 },
+            idle_span: if split { 1 << shift } else { 0 },
         })
     }
 
@@ -154,9 +160,11 @@ impl Readout {
     /// device at rest asks this instead of reading out (about a fifth of the cost).
     #[inline]
     pub fn is_idle(&self, state: &ReadoutState) -> bool {
-        let c = state.carry;
-        // As in `take` with z = 0: u_hi = c_hi + 2^(P-33), and the count is u_hi >> (P - 32).
-        self.split && below(c, 93) && ((c >> 32) as i64 + self.half_hi) >> self.shift_hi == 0
+        // As in `take` with z = 0: u_hi = c_hi + 2^(P-33), and the count u_hi >> (P - 32) is 0
+        // exactly when -2^(P-1) <= c < 2^(P-1) (which also keeps c below 2^93): one add and
+        // one compare, no variable 128-bit shift. A carry that wraps in the add is far
+        // outside and lands at or above 2^127. Never idle unless `split` (the span is 0).
+        (state.carry.wrapping_add(self.idle_half) as u128) < self.idle_span
     }
 
     /// [`Self::take`] by its definition, in saturating 128-bit arithmetic.
@@ -338,8 +346,10 @@ mod tests {
         // the carry.
         let mut rng = Rng(crate::bench::testsignal::Trace::new(0x1D1E));
         let (mut idle, mut busy) = (0, 0);
-        for exponent in [-2, -1, -30, -62, -63] {
+        let mut shifts = [false; 96];
+        for exponent in [-1, -2, -3, -30, -32, -33, -34, -35, -62, -63] {
             let r = Readout::from_ratio(crate::math::ldexp(1.5, exponent)).expect("in range");
+            shifts[r.shift() as usize] = true;
             let half = 1i128 << (r.shift() - 1);
             let edges = [
                 0,
@@ -350,6 +360,14 @@ mod tests {
                 1 << 93,
                 1 << 100,
                 -(1 << 100),
+                i128::MAX,
+                i128::MIN,
+                i128::MAX - half + 1,
+                1 << 64,
+                (1 << 64) - 1,
+                -(1 << 64),
+                -(1 << 64) - 1,
+                1 - half,
             ];
             for i in 0..2000 + edges.len() {
                 let carry = match edges.get(i) {
@@ -378,6 +396,10 @@ mod tests {
             }
         }
         assert!(idle > 1000 && busy > 1000, "{idle} idle, {busy} busy");
+        // Shifts at both ends of 33..=93, outside it, and about 64 (the carry's halves).
+        for p in [32, 33, 34, 61, 63, 64, 65, 66, 93, 94] {
+            assert!(shifts[p], "P {p} not covered");
+        }
     }
 
     #[test]
