@@ -198,25 +198,33 @@ impl Detector {
         let [x, y, z] = core::array::from_fn(|a| self.displacement2(s, l, a, bias[a]));
         let n = u128::from(l.window) * u128::from(s.tick);
         // 4/3 q n^3 + q n^4 / N_b, in the squared units of 2 d (the cubes from the settings:
-        // no 128-bit division per tick).
-        let q = u128::from(self.noise[2].q_q32);
-        let var = q.saturating_mul(u128::from(l.cube_4_3)).saturating_add(
-            q.saturating_mul(u128::from(crate::math::div_u64(
-                l.cube,
-                self.bias_samples.max(1),
-            )))
-            .saturating_mul(n),
-        );
+        // no 128-bit division per tick); asked for only past the horizontal and the
+        // allowance.
+        let var = || {
+            let q = u128::from(self.noise[2].q_q32);
+            q.saturating_mul(u128::from(l.cube_4_3)).saturating_add(
+                q.saturating_mul(u128::from(crate::math::div_u64(
+                    l.cube,
+                    self.bias_samples.max(1),
+                )))
+                .saturating_mul(n),
+            )
+        };
         let horizontal =
             (x.unsigned_abs() + y.unsigned_abs()).saturating_mul(u128::from(l.mount_q16)) >> 16;
         // A disturbance's velocity at the window's start carried over the window (its start is
         // not at rest when it starts inside a ring), plus its displacement: peak to peak.
         let dz = &self.disturbance[2];
         let g = dz.gains(s);
-        let v = u128::from(dz.allow(g.velocity_q16, 1));
-        let allow = u128::from(g.displacement)
-            .saturating_mul(u128::from(dz.amp_q16))
-            .saturating_add(v.saturating_mul(4 * n));
+        // Nothing without a disturbance (both terms are multiples of its amplitude).
+        let allow = if dz.amp_q16 == 0 {
+            0
+        } else {
+            let v = u128::from(dz.allow(g.velocity_q16, 1));
+            u128::from(g.displacement)
+                .saturating_mul(u128::from(dz.amp_q16))
+                .saturating_add(v.saturating_mul(4 * n))
+        };
         // |z| > K sd + horizontal + allow, compared in squares: no square root per tick.
         let past = match z
             .unsigned_abs()
@@ -225,7 +233,7 @@ impl Detector {
             None | Some(0) => false,
             Some(e) => e
                 .checked_mul(e)
-                .is_none_or(|e2| e2 > var.saturating_mul(u128::from(l.k2_q8)) >> 8),
+                .is_none_or(|e2| e2 > var().saturating_mul(u128::from(l.k2_q8)) >> 8),
         };
         let sign = z.signum() as i8;
         if past && (self.lift.above == 0 || sign == self.lift.sign) {

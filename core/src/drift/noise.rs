@@ -299,6 +299,11 @@ impl Disturbance {
 
     /// The allowance of `gain` (Q16, per tick) over `ticks` ticks [Q16 LSB samples].
     pub(crate) fn allow(&self, gain_q16: u64, ticks: u64) -> u64 {
+        // At rest on a quiet desk there is no disturbance: nothing to multiply (three
+        // 128-bit products a call on the Cortex-M4, several calls a tick).
+        if self.amp_q16 == 0 {
+            return 0;
+        }
         ((u128::from(gain_q16) * u128::from(self.amp_q16) * u128::from(ticks)) >> 16)
             .min(u128::from(u64::MAX)) as u64
     }
@@ -373,13 +378,20 @@ impl Disturbance {
         // `floor(num / den) >= edge` as `num >= edge den`: no 128-bit division per tick.
         let num = p[1].saturating_sub(self.margin_q32[1]) >> 16;
         let den = excess >> 32;
-        self.bin = if den == 0 {
-            0
-        } else {
-            s.bin_ratio_q16
+        self.bin = match u64::try_from(den) {
+            Ok(0) => 0,
+            // Two 64-bit factors: their product fits 128 bits, no overflow check (a
+            // 64 x 64 multiply, not a 128 x 128 one, on the Cortex-M4).
+            Ok(den) => s
+                .bin_ratio_q16
+                .iter()
+                .take_while(|&&edge| num >= u128::from(edge) * u128::from(den))
+                .count() as u8,
+            Err(_) => s
+                .bin_ratio_q16
                 .iter()
                 .take_while(|&&edge| u128::from(edge).checked_mul(den).is_some_and(|m| num >= m))
-                .count() as u8
+                .count() as u8,
         };
     }
 }
