@@ -787,3 +787,41 @@ fn a_quick_stroke_across_a_tilts_hold_arrives_though_its_shadow_stops_at_once() 
         }
     }
 }
+
+#[test]
+fn a_brisk_start_is_found_within_a_usb_frame_not_at_the_ticks_end() {
+    // A 0.7 g step (300 LSB) on X after rest: the fast CUSUM's check within a tick finds it
+    // within one USB frame (1 ms: 3 samples at 3 kHz, 20 at 20 kHz), where the tick's end
+    // (15 and 100 samples) would be 5 ms. The rest is a whole number of ticks, so the step
+    // starts a tick.
+    for fs_hz in [3000u32, 20_000] {
+        let config = Config {
+            fs_hz,
+            drift: Some(Drift::default()),
+            ..Config::default()
+        };
+        let mut t = Tracker::new(&config).expect("valid");
+        let mut n = Noise(Trace::new(11));
+        let mut feed = |t: &mut Tracker, x: u16| {
+            let s = [n.code(x), n.code(2048), n.code(2048)];
+            t.feed(&[s]);
+        };
+        for _ in 0..fs_hz + fs_hz / 2 {
+            feed(&mut t, 2048);
+        }
+        assert_eq!(
+            t.drift_state(),
+            Some(DriftState::Still),
+            "{fs_hz} Hz at rest"
+        );
+        let frame = (fs_hz / 1000) as usize;
+        let found = (1..=200).find(|_| {
+            feed(&mut t, 2348);
+            t.drift_state() == Some(DriftState::Moving)
+        });
+        assert!(
+            found.is_some_and(|k| k <= frame),
+            "{fs_hz} Hz: found after {found:?} samples, a frame is {frame}"
+        );
+    }
+}

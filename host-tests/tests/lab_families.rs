@@ -282,14 +282,17 @@ fn strokes_on_a_vibrating_desk_arrive_and_rest_does_not_move() {
         assert!(t.error_m <= count, "{} m in a minute", t.error_m);
         assert_eq!(t.second, 0.0, "tracking suspended");
     }
-    // Control: blind to the disturbance, a vibrating desk moves the cursor at rest.
+    // Control: blind to the disturbance, a vibrating desk moves the cursor at rest. On
+    // sixteen desks: the burst test still catches a machine's start, so the blind detector
+    // moves on few of them (1 and 2 counts on 2 of 16 since the early start test runs once a
+    // USB frame; 6 counts on 1 of 8 when it ran every sample).
     let c = run(
         Kind::VibrationRest,
         tuned(Tuning {
             disturbance_sigmas: 20.0,
             ..Tuning::default()
         }),
-        8,
+        16,
         10,
     );
     assert!(

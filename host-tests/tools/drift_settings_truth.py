@@ -83,6 +83,7 @@ def derive(d, fs):
     land = max(hold_blocks, 3)
     quiet = max(rnd(t["quiet_s"] / tick_s), 1)
     put("tick", tick)
+    put("early_stride", max(fs // 1000, 1))
     put("block", block)
     put("band", l1, 0)
     put("band", l2, 1)

@@ -411,6 +411,9 @@ fn q16(x: f64) -> u64 {
 pub struct DriftSettings {
     /// Samples per tick `D`.
     pub(crate) tick: u32,
+    /// Samples between the early start test's checks within a tick: those of one USB frame
+    /// (1 ms at full speed, the mouse's polling interval), at least one ([`rest`]).
+    pub(crate) early_stride: u32,
     /// Ticks per block.
     pub(crate) block: u32,
     /// The hand-band filter's two boxcars [ticks] and its delay [ticks].
@@ -632,6 +635,7 @@ impl Drift {
         let dist_margin_short = margin(dist_shift - 2);
         Ok(DriftSettings {
             tick,
+            early_stride: (fs_hz / 1000).max(1),
             block,
             dist_shift,
             dist_margin_q8: round(dist_margin * 256.0),
@@ -675,6 +679,7 @@ impl DriftSettings {
         let q16 = |v: u64| v as f64 / 65_536.0;
         let n = |v: u32| f64::from(v);
         f("tick", 0, n(self.tick));
+        f("early_stride", 0, n(self.early_stride));
         f("block", 0, n(self.block));
         for (i, &l) in self.band.iter().enumerate() {
             f("band", i, n(l));
@@ -922,7 +927,10 @@ impl Detector {
             State::Still | State::Lifted => {}
         }
         if !self.stream.tick_done(s) {
-            if self.state == State::Still && !self.rest.within_headroom(&self.stream, bias) {
+            if self.state == State::Still
+                && self.stream.partial() % s.early_stride == 0
+                && !self.rest.within_headroom(&self.stream, bias)
+            {
                 return self.early_start(s, bias);
             }
             return Action::None;
