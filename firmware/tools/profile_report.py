@@ -61,7 +61,10 @@ def main():
             prepare += n
     total = sum(counts.values())
     print(f"{total / triples:.1f} instructions per sample triple in all ({triples} triples), "
-          f"of which the desk's prepare {prepare / triples:.1f} (not timed by cargo lab speed)")
+          f"of which the desk's prepare {prepare / triples:.1f} (not timed by cargo lab speed): "
+          f"{(total - prepare) / triples:.1f} to compare with its device_3khz row")
+    print("(a 'function' is the innermost frame, inlined or not: `<u128>::overflowing_mul` is "
+          "128-bit arithmetic inlined where the chains below say)")
     for title, table, rows in (("function", by_fn, 40), ("source line", by_line, 60),
                                ("inline chain", by_chain, 60)):
         print(f"\nby {title} (instructions per triple)")
