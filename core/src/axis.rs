@@ -27,6 +27,13 @@ pub struct Axis {
     lowpass: LowpassState,
     integrator: IntegratorState,
     readout: ReadoutState,
+    /// Whether the last read-out left its carry outside the usual range
+    /// ([`crate::Readout::is_idle`] false), so that a read-out of nothing may still return
+    /// counts. Decided once a read-out, for the settings it was read with (an axis serves one
+    /// [`Settings`]: the tracker starts new axes when it is reconfigured), not on every poll
+    /// at rest (128-bit arithmetic, about 24 instructions an axis on the Cortex-M4). A new
+    /// axis's carry is 0, which every read-out leaves as it is.
+    carry_busy: bool,
 }
 
 impl Axis {
@@ -197,17 +204,20 @@ impl Axis {
     }
 
     /// Whether [`Self::take_counts`] would return 0 and change nothing: no position since
-    /// the last read-out and a carry in its usual range ([`crate::Readout::is_idle`]).
+    /// the last read-out, and a carry that read-out left in its usual range
+    /// ([`crate::Readout::is_idle`], with the settings it was read with) or none yet.
     #[inline]
-    pub fn is_idle(&self, settings: &Settings) -> bool {
-        self.integrator.position() == 0 && settings.readout().is_idle(&self.readout)
+    pub fn is_idle(&self) -> bool {
+        self.integrator.position() == 0 && !self.carry_busy
     }
 
     /// Drains the position accumulated since the last call into whole mouse counts, carrying
     /// the remainder.
     pub fn take_counts(&mut self, settings: &Settings) -> i32 {
         let z = self.integrator.take_position();
-        settings.readout().take(&mut self.readout, z)
+        let (n, idle) = settings.readout().take_and_idle(&mut self.readout, z);
+        self.carry_busy = !idle;
+        n
     }
 }
 
@@ -225,14 +235,63 @@ mod tests {
         .validate()
         .expect("valid");
         let mut axis = Axis::new(2048 << 16);
-        assert!(axis.is_idle(&settings));
+        assert!(axis.is_idle());
         axis.update(&settings, AdcCode(2060));
-        assert!(!axis.is_idle(&settings));
+        assert!(!axis.is_idle());
         let _ = axis.take_counts(&settings);
         assert!(
-            axis.is_idle(&settings),
+            axis.is_idle(),
             "drained: nothing to read until the next sample"
         );
+    }
+
+    #[test]
+    fn idle_after_a_read_out_is_the_read_outs_own_idle_test() {
+        // Positions from one sample to past what a read-out can return at once (the carry
+        // then holds the clamped excess): after each read-out the axis is idle exactly when
+        // the read-out calls its carry idle, and then reading nothing returns 0 and changes
+        // nothing.
+        let settings = Config {
+            drift: None,
+            ..Config::default()
+        }
+        .validate()
+        .expect("valid");
+        let readout = settings.readout();
+        let (mut idle, mut busy) = (0, 0);
+        // The last: full scale for 2000 s (6 M samples at 3 kHz) moves 1e8 m, past the
+        // 2^31 counts a read-out returns at most.
+        for (code, samples) in [
+            (2049u16, 2000),
+            (2060, 2000),
+            (3000, 2000),
+            (65_535, 6_000_000),
+        ] {
+            let mut axis = Axis::new(2048 << 16);
+            for _ in 0..samples {
+                axis.update(&settings, AdcCode(code));
+            }
+            for _ in 0..3 {
+                let _ = axis.take_counts(&settings);
+                assert_eq!(
+                    axis.is_idle(),
+                    readout.is_idle(&axis.readout),
+                    "code {code}"
+                );
+                if axis.is_idle() {
+                    let before = axis;
+                    assert_eq!(axis.take_counts(&settings), 0);
+                    assert_eq!(
+                        axis, before,
+                        "code {code}: a read-out of nothing changed it"
+                    );
+                    idle += 1;
+                } else {
+                    busy += 1;
+                }
+            }
+        }
+        assert!(idle > 0 && busy > 0, "{idle} idle, {busy} busy");
     }
 
     #[test]

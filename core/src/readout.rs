@@ -134,6 +134,14 @@ impl Readout {
     /// definition on both sides of every bound.
     #[inline]
     pub fn take(&self, state: &mut ReadoutState, z: i128) -> i32 {
+        self.take_and_idle(state, z).0
+    }
+
+    /// [`Self::take`], and whether the carry it leaves is idle ([`Self::is_idle`]): by
+    /// construction on the 64-bit pieces' path (its new carry is `u mod 2^P - 2^(P-1)`, in
+    /// the usual range), tested only after the definition's (a clamp may leave more).
+    #[inline]
+    pub fn take_and_idle(&self, state: &mut ReadoutState, z: i128) -> (i32, bool) {
         if self.split && below(z, 62) && below(state.carry, 93) {
             let c = state.carry;
             let m = u64::from(self.mult);
@@ -148,10 +156,18 @@ impl Readout {
             if let Ok(n) = i32::try_from(u_hi >> self.shift_hi) {
                 let hi = (u_hi & self.mask_hi) - self.half_hi;
                 state.carry = (i128::from(hi) << 32) + i128::from(lo);
-                return n;
+                return (n, true);
             }
         }
-        self.take_exactly(state, z)
+        self.take_exactly_and_idle(state, z)
+    }
+
+    /// The definition's path of [`Self::take_and_idle`], out of line with its idle test.
+    #[cold]
+    #[inline(never)]
+    fn take_exactly_and_idle(&self, state: &mut ReadoutState, z: i128) -> (i32, bool) {
+        let n = self.take_exactly(state, z);
+        (n, self.is_idle(state))
     }
 
     /// Whether a read-out of nothing (`z = 0`) would return 0 and leave the carry as it is:
@@ -320,9 +336,11 @@ mod tests {
             let z_bits = (rng.next() % 100) as u32;
             let z = rng.wide(z_bits);
             let mut st = ReadoutState { carry };
-            let got = r.take(&mut st, z);
+            let (got, idle) = r.take_and_idle(&mut st, z);
             let want = reference(&r, carry, z);
             assert_eq!((got, st.carry), want, "P {} carry {carry} z {z}", r.shift());
+            // The idle flag a read-out returns is the idle test on the carry it left.
+            assert_eq!(idle, r.is_idle(&st), "P {} carry {carry} z {z}", r.shift());
             let zm = z.saturating_mul(i128::from(r.mult()));
             let fits = |v: i128| (i128::from(i32::MIN)..=i128::from(i32::MAX)).contains(&v);
             if (33..=93).contains(&r.shift())

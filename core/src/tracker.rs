@@ -462,7 +462,7 @@ impl Tracker {
         let settings = &self.settings;
         // At rest nothing was integrated: an idle axis is not read out (the same 0).
         self.axes.each_mut().map(|axis| {
-            if axis.is_idle(settings) {
+            if axis.is_idle() {
                 0
             } else {
                 axis.take_counts(settings)

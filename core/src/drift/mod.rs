@@ -928,7 +928,7 @@ impl Detector {
         }
         if !self.stream.tick_done(s) {
             if self.state == State::Still
-                && self.stream.partial() % s.early_stride == 0
+                && self.stream.partial().is_multiple_of(s.early_stride)
                 && !self.rest.within_headroom(&self.stream, bias)
             {
                 return self.early_start(s, bias);
