@@ -680,6 +680,13 @@ async function stream(on) {
     // The device's tracker, from this stream's first sample (as `cargo lab replay` of a
     // recording started with it).
     restartTracker();
+    // A recording asked for with the stream starts with the tracker: frames that came
+    // before the device's answer were recorded but not tracked, and a tracker's decisions
+    // depend on where its 5 ms ticks fall.
+    if (state.recording) {
+      state.recording = [];
+      state.recordingLost = 0;
+    }
   }
   // The device panel's counters and state as they are now.
   if (!on) await refresh();

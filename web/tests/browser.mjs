@@ -371,11 +371,13 @@ try {
       seen.add((await d.textContent("#drift-state")).split(",")[0]);
       await d.waitForTimeout(100);
     }
-    await d.click("#rec-stop");
+    // The stream first, then the recording: every frame the page's tracker took is in the
+    // recording (stopped the other way round, the tracker goes on with frames it has not).
     await d.click("#live-stop");
     await d.waitForFunction(() =>
       /^Stream stopped: \d+ frames, 0 lost\.$/.test(document.getElementById("status").textContent),
     );
+    await d.click("#rec-stop");
     const cursor = (await d.textContent("#cursor")).split(", ").map(Number);
     await d.screenshot({ path: join(shots, "desk.png"), fullPage: true });
     const [dl] = await Promise.all([d.waitForEvent("download"), d.click("#rec-download")]);
