@@ -226,14 +226,19 @@ mod tests {
     use super::*;
     use crate::Config;
 
-    #[test]
-    fn an_axis_is_idle_until_it_moves_and_again_once_read() {
-        let settings = Config {
+    /// The default settings with drift control off: the axis alone.
+    fn without_drift() -> Settings {
+        Config {
             drift: None,
             ..Config::default()
         }
         .validate()
-        .expect("valid");
+        .expect("valid")
+    }
+
+    #[test]
+    fn an_axis_is_idle_until_it_moves_and_again_once_read() {
+        let settings = without_drift();
         let mut axis = Axis::new(2048 << 16);
         assert!(axis.is_idle());
         axis.update(&settings, AdcCode(2060));
@@ -251,12 +256,7 @@ mod tests {
         // then holds the clamped excess): after each read-out the axis is idle exactly when
         // the read-out calls its carry idle, and then reading nothing returns 0 and changes
         // nothing.
-        let settings = Config {
-            drift: None,
-            ..Config::default()
-        }
-        .validate()
-        .expect("valid");
+        let settings = without_drift();
         let readout = settings.readout();
         let (mut idle, mut busy) = (0, 0);
         // The last: full scale for 2000 s (6 M samples at 3 kHz) moves 1e8 m, past the
