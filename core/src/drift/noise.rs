@@ -12,7 +12,10 @@
 //! length within 4 %) averaged over [`LEARN_BLOCKS`] blocks (about 10 s of rest; relative sd
 //! of the estimate `sqrt(2 / 256)`, 9 %). Each test's sd comes from `q`: the sd of one
 //! tick's sum is `sqrt(q D)`, of `n` samples `sqrt(q n)` (long-run: conservative for a
-//! single tick, whose variance `g0 D` is smaller).
+//! single tick, whose variance `g0 D` is smaller). The start tests' sd is that one times the
+//! quantizer's bound ([`quantizer_bound_q16`]), from the calibration's codes: more than 1
+//! only when the noise is below about 0.8 LSB, where an excursion of the codes has a heavier
+//! tail than the fluctuations `q` is learnt from.
 //!
 //! # The disturbance
 //! What is not the sensor's noise and not a hand: a knock's ring, a machine's vibration,
@@ -93,16 +96,25 @@ pub struct Gains {
 pub struct Noise {
     /// Long-run variance per sample `q` [LSB^2, Q32].
     pub(crate) q_q32: u64,
-    /// The sd of one tick's sum, `sqrt(q D)` [Q16 LSB samples].
+    /// The start tests' sd of one tick's sum, `r sqrt(q D)` [Q16 LSB samples], `r` the
+    /// quantizer's bound ([`quantizer_bound_q16`]).
     pub(crate) sd_q16: i64,
+    /// The quantizer's bound `r` [Q16, `>= 65536`], fixed at calibration.
+    pub(crate) quant_q16: u32,
 }
 
 impl Noise {
-    /// The noise with long-run variance `q_q32` at tick length `D`.
-    pub(crate) fn new(s: &DriftSettings, q_q32: u64) -> Self {
-        // sqrt(q D) in Q16: the square root of a Q32 value.
-        let sd = crate::math::isqrt_u128(u128::from(q_q32) * u128::from(s.tick)) as i64;
-        Self { q_q32, sd_q16: sd }
+    /// The noise with long-run variance `q_q32` at tick length `D` and quantizer bound
+    /// `quant_q16`.
+    pub(crate) fn new(s: &DriftSettings, q_q32: u64, quant_q16: u32) -> Self {
+        // sqrt(q D) in Q16: the square root of a Q32 value; times r in Q16.
+        let sd = crate::math::isqrt_u128(u128::from(q_q32) * u128::from(s.tick));
+        let sd = ((sd * u128::from(quant_q16)) >> 16).min(i64::MAX as u128) as i64;
+        Self {
+            q_q32,
+            sd_q16: sd,
+            quant_q16,
+        }
     }
 
     /// From a calibration: its `q` at the upper 2-sd bound of its own uncertainty.
@@ -113,7 +125,7 @@ impl Noise {
         let z = u128::from(s.inflation_q8);
         let inflate_q8 = 256 + ((z * crate::math::isqrt_u128(8 * 65_536 / u128::from(ticks))) >> 8);
         let q = ((q * inflate_q8) >> 8).min(u128::from(u64::MAX)) as u64;
-        Self::new(s, q)
+        Self::new(s, q, quantizer_bound_q16(cal.noise_rms_q16, cal.bias_q16))
     }
 
     /// The variance of a sum of `n` samples whose zero was averaged over `nb` samples:
@@ -122,6 +134,105 @@ impl Noise {
         u128::from(self.q_q32)
             .saturating_mul(u128::from(n) + crate::math::square_over(n, nb.max(1)))
     }
+}
+
+/// Per-sample input noise [LSB] below which [`quantizer_bound_q16`] takes this value: the
+/// codes then sit on one value for 95 % of samples at a code's centre, and four terms of
+/// the gain's Fourier series no longer give it to 10^-3.
+const QUANT_SIGMA_MIN: f64 = 0.25;
+/// The codes' rms [LSB] from which the quantizer's bound is exactly 1 in Q16: the input's
+/// noise is then at least 0.95 LSB, where `e_1 < 2^-18`.
+const QUANT_RMS_EXACT: f64 = 1.0;
+
+/// The rounded codes' mean and variance [LSB, LSB^2] for input noise of sd `sigma` [LSB] at
+/// `u` [LSB] from a code's centre: `p_j = Phi((j + 1/2 - u) / sigma) - Phi((j - 1/2 - u) /
+/// sigma)`, `sum_j j p_j` and `sum_j j^2 p_j - (sum_j j p_j)^2`, over the codes within 6
+/// sd.
+fn rounded_moments(sigma: f64, u: f64) -> (f64, f64) {
+    let cdf = |x: f64| 0.5 * libm::erfc(-x / (sigma * core::f64::consts::SQRT_2));
+    let reach = libm::ceil(6.0 * sigma) as i32 + 1;
+    let (mut m1, mut m2) = (0.0, 0.0);
+    let mut below = cdf(-f64::from(reach) - 0.5 - u);
+    for j in -reach..=reach {
+        let j = f64::from(j);
+        let above = cdf(j + 0.5 - u);
+        let p = above - below;
+        below = above;
+        m1 += j * p;
+        m2 += j * j * p;
+    }
+    (m1, m2 - m1 * m1)
+}
+
+/// The quantizer's bound `r` [Q16, `>= 65536`]: how much further than a Gaussian of the
+/// learnt sd the mean code can run, for codes at rest of per-sample rms `rms_q16` [Q16 LSB]
+/// and mean `bias_q16` [Q16 LSB] (a calibration's).
+///
+/// An ADC rounds the input `x + n` (per-sample noise `n` of sd `sigma` LSB) to a code; the
+/// mean code moves with the input's slow part `x` by the gain
+/// `g(u) = sum_j phi_sigma(j + 1/2 - u) = 1 + 2 sum_k (-1)^k e_k cos(2 pi k u)`, `e_k = exp(-2 pi^2 k^2 sigma^2)` (Poisson's
+/// sum), `u` the zero's place from a code's centre: `g_min = 1 - 2 e_1 + 2 e_2 - ...` at a
+/// centre, `g_max = 1 + 2 e_1 + 2 e_2 + ...` at a boundary (0.85 and 1.16 at `sigma = 0.36`;
+/// 1 within 10^-10 at the ADXL335's 1.1 LSB). The noise the tests learn at rest is the small
+/// fluctuations', `g(u)` times the input's; an excursion of the input moves the mean code by
+/// the integral of `g` over it, at most `g_max` times the excursion. A start test's alarm is
+/// an excursion of a few tenths of an LSB over hundreds of milliseconds, where that matters,
+/// and its false-alarm rate is exponential in the alarm's sd multiple (a sd 1.12 times the
+/// learnt one makes the slow CUSUM's alarms 150 times as frequent). So each start test's sd
+/// is the learnt one times `r = g_max / g_min`, the zero at a code's centre (the zero walks:
+/// any place may be the one it learnt at): 1.37 at `sigma = 0.36` LSB, 1.03 at 0.5, 1 in Q16
+/// from 0.82 up. (The tightest bound, the largest secant over the local gain, is 1.23 at
+/// 0.36; it has no closed form.)
+///
+/// `sigma` and `u` come from the codes' rms and mean, solved from [`rounded_moments`]: the
+/// variance increases with `sigma` (a bisection of 24 steps at each `u` tried) and the mean
+/// with `u` (the secant method, to 10^-6 LSB in at most 10 steps). Skipped from [`QUANT_RMS_EXACT`] up, where it
+/// is exactly 1; below [`QUANT_SIGMA_MIN`], `sigma` takes that value.
+pub fn quantizer_bound_q16(rms_q16: u64, bias_q16: i64) -> u32 {
+    const ONE: u32 = 1 << 16;
+    let rms = rms_q16 as f64 / 65_536.0;
+    if rms >= QUANT_RMS_EXACT {
+        return ONE;
+    }
+    let mean = bias_q16 as f64 / 65_536.0;
+    let frac = mean - libm::round(mean);
+    // The input's sd at zero place `u`: the codes' variance increases with it (bisection).
+    let sigma_at = |u: f64| {
+        let (mut lo, mut hi) = (QUANT_SIGMA_MIN, rms + 0.5);
+        if rounded_moments(lo, u).1 < rms * rms {
+            for _ in 0..24 {
+                let mid = 0.5 * (lo + hi);
+                if rounded_moments(mid, u).1 < rms * rms {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+        }
+        lo
+    };
+    // The zero's place: the mean code's error at `u` (with the sd that place implies) to
+    // zero by the secant method, from the mean's own place (within 0.03 LSB of it).
+    let error = |u: f64| rounded_moments(sigma_at(u), u).0 - frac;
+    let (mut u0, mut e0) = (frac, error(frac));
+    let mut u = (u0 - e0).clamp(-0.5, 0.5);
+    let mut e = error(u);
+    for _ in 0..8 {
+        if libm::fabs(e) < 1e-6 || e == e0 {
+            break;
+        }
+        let next = (u - e * (u - u0) / (e - e0)).clamp(-0.5, 0.5);
+        (u0, e0) = (u, e);
+        u = next;
+        e = error(u);
+    }
+    let sigma = sigma_at(u);
+    let w = 2.0 * core::f64::consts::PI * core::f64::consts::PI * sigma * sigma;
+    let e = [1.0, 4.0, 9.0, 16.0].map(|k2| 2.0 * libm::exp(-w * k2));
+    let g_max = 1.0 + e[0] + e[1] + e[2] + e[3];
+    let g_min = 1.0 - e[0] + e[1] - e[2] + e[3];
+    let r = crate::math::round_to_u64(g_max / g_min * 65_536.0);
+    r.clamp(u64::from(ONE), u64::from(u32::MAX)) as u32
 }
 
 /// Whether `|d| <= k sqrt(var) + allow`, with `k^2` in Q8 (`var` and `d^2` in the same
@@ -168,7 +279,7 @@ impl Learn {
             let q = u128::from(noise[a].q_q32);
             let m = u128::from(LEARN_BLOCKS);
             let q = ((q * (m - 1) + var) / m).max(u128::from(VAR_FLOOR)) as u64;
-            noise[a] = Noise::new(s, q);
+            noise[a] = Noise::new(s, q, noise[a].quant_q16);
         }
         *self = Self::default();
     }
@@ -455,5 +566,45 @@ mod tests {
                 assert_eq!(r > root, u128::from(r).pow(2) > r2, "r {r} bound {r2}");
             }
         }
+    }
+
+    /// A calibration at rest with per-sample rms `rms` [LSB] and mean `mean` [LSB].
+    fn cal(rms: f64, mean: f64) -> Calibration {
+        Calibration {
+            bias_q16: (mean * 65_536.0) as i64,
+            noise_rms_q16: (rms * 65_536.0) as u64,
+            samples: 3000,
+            tick_var_q32: 3 << 32,
+            long_run_var_q32: 3 << 32,
+            tick_lags_q32: [0; 3],
+        }
+    }
+
+    #[test]
+    fn the_start_tests_sd_is_the_learnt_one_times_the_quantizers_bound_before_and_after_learning() {
+        let Ok(s) = crate::drift::Drift::default().validate(3000, 0.0235) else {
+            panic!("the default drift control is valid at 3 kHz");
+        };
+        // Codes at a centre with 0.36 LSB of input noise (0.406 LSB rms): r = 1.37.
+        let c = cal(0.406, 2048.0);
+        let r = quantizer_bound_q16(c.noise_rms_q16, c.bias_q16);
+        assert!((f64::from(r) / 65_536.0 - 1.367).abs() < 0.01, "{r}");
+        let mut noise = [Noise::from_calibration(&s, &c); 3];
+        let bare = |n: &Noise| crate::math::isqrt_u128(u128::from(n.q_q32) * u128::from(s.tick));
+        for n in &noise {
+            assert_eq!(n.sd_q16 as u128, (bare(n) * u128::from(r)) >> 16);
+        }
+        let mut learn = Learn::default();
+        for _ in 0..LEARN_TICKS {
+            learn.push(&s, &mut noise, [2048 * s.tick; 3], [c.bias_q16; 3]);
+        }
+        for n in &noise {
+            assert_eq!(n.quant_q16, r);
+            assert_eq!(n.sd_q16 as u128, (bare(n) * u128::from(r)) >> 16);
+        }
+        // The ADXL335's codes (1.1 LSB rms) leave the sd as it was.
+        let n = Noise::from_calibration(&s, &cal(1.1, 2048.3));
+        assert_eq!(n.quant_q16, 1 << 16);
+        assert_eq!(n.sd_q16 as u128, bare(&n));
     }
 }

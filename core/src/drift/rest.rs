@@ -25,9 +25,13 @@
 //! CUSUM's average run length to a false alarm is `(e^(2 kappa b) - 1 - 2 kappa b) / (2
 //! kappa^2)` (Siegmund), with `b = h` for the filtered one (a smooth input has no overshoot:
 //! Brownian motion's exact result, conservative) and `b = h + 1.166` for the raw one. At
-//! 3 kHz (5 ms ticks) and 10^4 hours: `h = 24.3` (slow) and `h = 8.1` (fast). Real tick sums
-//! are not Gaussian when the noise is below an LSB, and the zero walks: the rate is measured
-//! by the long-rest benchmark (`cargo lab mouse --long-rest`), beside this prediction.
+//! 3 kHz (5 ms ticks) and 10^4 hours: `h = 24.3` (slow) and `h = 8.1` (fast). When the
+//! sensor's noise is below an LSB the codes' excursions are not Gaussian: the ADC's steps
+//! steepen a large one beyond the small fluctuations the noise was learnt from, so the sd
+//! both CUSUMs standardise by is the learnt one times the quantizer's bound
+//! ([`super::noise::quantizer_bound_q16`]: 1.37 for 0.36 LSB of noise, exactly 1 from 0.82
+//! LSB, the ADXL335's 1.1 among them). The rate is measured by the long-rest benchmark
+//! (`cargo lab mouse --long-rest`), beside this prediction.
 //!
 //! # Where the motion began
 //! Each CUSUM remembers the tick at which it last left zero: that is where the run that

@@ -371,8 +371,9 @@ pub struct Args {
     /// A trace line every this many milliseconds as well as at each decision, `1..=60000`.
     #[arg(long, requires = "trace", value_name = "MS")]
     pub every_ms: Option<u32>,
-    /// The long-rest benchmark: this many device-hours at rest on each of the two
-    /// sensors (the ADXL335 with its bias walk, and 100 ug/sqrt(Hz) on 12 bits), `0.01..=10000`.
+    /// The long-rest benchmark: this many device-hours at rest on each of three sensors
+    /// (the ADXL335 with its bias walk, and 100 ug/sqrt(Hz) on 12 bits with that walk and
+    /// without it), `0.01..=10000`.
     #[arg(long, value_name = "HOURS")]
     pub long_rest: Option<f64>,
     /// The sensitivity table: every target at half and at twice each constant.
