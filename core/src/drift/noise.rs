@@ -139,22 +139,22 @@ impl Noise {
 /// Per-sample input noise [LSB] below which [`quantizer_bound_q16`] takes this value: the
 /// codes then sit on one value for 95 % of samples at a code's centre, and four terms of
 /// the gain's Fourier series no longer give it to 10^-3.
-const QUANT_SIGMA_MIN: f64 = 0.25;
+const QUANT_SIGMA_MIN: f32 = 0.25;
 /// The codes' rms [LSB] from which the quantizer's bound is exactly 1 in Q16: the input's
 /// noise is then at least 0.95 LSB, where `e_1 < 2^-18`.
-const QUANT_RMS_EXACT: f64 = 1.0;
+const QUANT_RMS_EXACT: f32 = 1.0;
 
 /// The rounded codes' mean and variance [LSB, LSB^2] for input noise of sd `sigma` [LSB] at
 /// `u` [LSB] from a code's centre: `p_j = Phi((j + 1/2 - u) / sigma) - Phi((j - 1/2 - u) /
 /// sigma)`, `sum_j j p_j` and `sum_j j^2 p_j - (sum_j j p_j)^2`, over the codes within 6
 /// sd.
-fn rounded_moments(sigma: f64, u: f64) -> (f64, f64) {
-    let cdf = |x: f64| 0.5 * libm::erfc(-x / (sigma * core::f64::consts::SQRT_2));
-    let reach = libm::ceil(6.0 * sigma) as i32 + 1;
+fn rounded_moments(sigma: f32, u: f32) -> (f32, f32) {
+    let cdf = |x: f32| 0.5 * libm::erfcf(-x / (sigma * core::f32::consts::SQRT_2));
+    let reach = libm::ceilf(6.0 * sigma) as i16 + 1;
     let (mut m1, mut m2) = (0.0, 0.0);
-    let mut below = cdf(-f64::from(reach) - 0.5 - u);
+    let mut below = cdf(-f32::from(reach) - 0.5 - u);
     for j in -reach..=reach {
-        let j = f64::from(j);
+        let j = f32::from(j);
         let above = cdf(j + 0.5 - u);
         let p = above - below;
         below = above;
@@ -185,22 +185,27 @@ fn rounded_moments(sigma: f64, u: f64) -> (f64, f64) {
 /// 0.36; it has no closed form.)
 ///
 /// `sigma` and `u` come from the codes' rms and mean, solved from [`rounded_moments`]: the
-/// variance increases with `sigma` (a bisection of 24 steps at each `u` tried) and the mean
-/// with `u` (the secant method, to 10^-6 LSB in at most 10 steps). Skipped from [`QUANT_RMS_EXACT`] up, where it
+/// variance increases with `sigma` (a bisection of 20 steps at each `u` tried) and the mean
+/// with `u` (the secant method, to 10^-5 LSB in at most 10 steps). In `f32`, which the
+/// Cortex-M4F computes in hardware (the error function is libm's, in software): 116 000
+/// instructions an axis in QEMU (the speed harness's `once quantizer_bound` line; 154 000
+/// in f64), about 1.2 ms at 96 MHz, once a calibration and only for codes below 1 LSB rms.
+/// The sampling goes on meanwhile; a block it cannot take in time is lost and held
+/// ([`crate::Tracker::lost`]): a few milliseconds of rest. Skipped from [`QUANT_RMS_EXACT`] up, where it
 /// is exactly 1; below [`QUANT_SIGMA_MIN`], `sigma` takes that value.
 pub fn quantizer_bound_q16(rms_q16: u64, bias_q16: i64) -> u32 {
     const ONE: u32 = 1 << 16;
-    let rms = rms_q16 as f64 / 65_536.0;
-    if rms >= QUANT_RMS_EXACT {
+    if rms_q16 >= (QUANT_RMS_EXACT * 65_536.0) as u64 {
         return ONE;
     }
-    let mean = bias_q16 as f64 / 65_536.0;
-    let frac = mean - libm::round(mean);
+    let rms = rms_q16 as f32 / 65_536.0;
+    // The mean's place from the nearest code, in whole Q16 arithmetic, then in LSB.
+    let frac = (bias_q16 - ((bias_q16 + (1 << 15)) >> 16 << 16)) as f32 / 65_536.0;
     // The input's sd at zero place `u`: the codes' variance increases with it (bisection).
-    let sigma_at = |u: f64| {
+    let sigma_at = |u: f32| {
         let (mut lo, mut hi) = (QUANT_SIGMA_MIN, rms + 0.5);
         if rounded_moments(lo, u).1 < rms * rms {
-            for _ in 0..24 {
+            for _ in 0..20 {
                 let mid = 0.5 * (lo + hi);
                 if rounded_moments(mid, u).1 < rms * rms {
                     lo = mid;
@@ -213,12 +218,12 @@ pub fn quantizer_bound_q16(rms_q16: u64, bias_q16: i64) -> u32 {
     };
     // The zero's place: the mean code's error at `u` (with the sd that place implies) to
     // zero by the secant method, from the mean's own place (within 0.03 LSB of it).
-    let error = |u: f64| rounded_moments(sigma_at(u), u).0 - frac;
+    let error = |u: f32| rounded_moments(sigma_at(u), u).0 - frac;
     let (mut u0, mut e0) = (frac, error(frac));
     let mut u = (u0 - e0).clamp(-0.5, 0.5);
     let mut e = error(u);
     for _ in 0..8 {
-        if libm::fabs(e) < 1e-6 || e == e0 {
+        if libm::fabsf(e) < 1e-5 || e == e0 {
             break;
         }
         let next = (u - e * (u - u0) / (e - e0)).clamp(-0.5, 0.5);
@@ -227,11 +232,11 @@ pub fn quantizer_bound_q16(rms_q16: u64, bias_q16: i64) -> u32 {
         e = error(u);
     }
     let sigma = sigma_at(u);
-    let w = 2.0 * core::f64::consts::PI * core::f64::consts::PI * sigma * sigma;
-    let e = [1.0, 4.0, 9.0, 16.0].map(|k2| 2.0 * libm::exp(-w * k2));
+    let w = 2.0 * core::f32::consts::PI * core::f32::consts::PI * sigma * sigma;
+    let e = [1.0, 4.0, 9.0, 16.0].map(|k2| 2.0 * libm::expf(-w * k2));
     let g_max = 1.0 + e[0] + e[1] + e[2] + e[3];
     let g_min = 1.0 - e[0] + e[1] - e[2] + e[3];
-    let r = crate::math::round_to_u64(g_max / g_min * 65_536.0);
+    let r = crate::math::round_to_u64(f64::from(g_max / g_min) * 65_536.0);
     r.clamp(u64::from(ONE), u64::from(u32::MAX)) as u32
 }
 

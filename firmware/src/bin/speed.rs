@@ -186,6 +186,24 @@ fn main() -> ! {
         &mut DevicePath::without_drift(3000),
         &codes,
     );
+    // Once a calibration, for a sensor quieter than the ADC's step (0.406 LSB rms at a
+    // code's centre): the quantizer's bound of one axis. Its ~10^5 instructions would wrap
+    // the 24-bit SysTick at the core clock, so it and 1000 nops are timed on the external
+    // reference (a core clock / 8 in QEMU): `once quantizer_bound TICKS NOP_TICKS R_Q16`,
+    // instructions = 1000 TICKS / NOP_TICKS. Not parsed by `cargo lab speed` (run the ELF in
+    // QEMU to read it: docs/speed.md).
+    cp.SYST.set_clock_source(SystClkSource::External);
+    cp.SYST.clear_current();
+    let start = SYST::get_current();
+    rep10!(rep10!(rep10!(cortex_m::asm::nop())));
+    let t_nop_ext = elapsed(start);
+    let start = SYST::get_current();
+    let r = imu_core::drift::noise::quantizer_bound_q16(
+        core::hint::black_box(26_608),
+        core::hint::black_box(2048 << 16),
+    );
+    let t = elapsed(start);
+    hprintln!("once quantizer_bound {} {} {}", t, t_nop_ext, r);
     hprintln!("done");
     debug::exit(debug::EXIT_SUCCESS);
     halt()
