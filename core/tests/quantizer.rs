@@ -105,6 +105,27 @@ fn a_sensor_whose_noise_dithers_the_codes_keeps_its_tests_bit_for_bit() {
 }
 
 #[test]
+fn any_mean_code_gives_a_bound_without_overflow() {
+    // Only the mean's place between codes is used; the function is public, so its whole
+    // domain is safe.
+    for bias in [
+        i64::MIN,
+        -1,
+        0,
+        (2048 << 16) + 32_768,
+        65_535 << 16,
+        i64::MAX,
+    ] {
+        let r = quantizer_bound_q16(26_608, bias);
+        assert!(r >= 1 << 16, "bias {bias}: {r}");
+    }
+    assert_eq!(
+        quantizer_bound_q16(26_608, 2048 << 16),
+        quantizer_bound_q16(26_608, 5 << 16)
+    );
+}
+
+#[test]
 fn codes_that_barely_move_take_the_bound_at_a_quarter_lsb() {
     // 0.1 LSB of noise at a centre: the codes sit on one value; the bound is the one for
     // 0.25 LSB, finite.

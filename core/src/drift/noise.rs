@@ -165,8 +165,9 @@ fn rounded_moments(sigma: f32, u: f32) -> (f32, f32) {
 }
 
 /// The quantizer's bound `r` [Q16, `>= 65536`]: how much further than a Gaussian of the
-/// learnt sd the mean code can run, for codes at rest of per-sample rms `rms_q16` [Q16 LSB]
-/// and mean `bias_q16` [Q16 LSB] (a calibration's).
+/// learnt sd the mean code can run, for codes at rest whose sd about their mean is `rms_q16`
+/// [Q16 LSB] and whose mean is the code `bias_q16` [Q16 LSB; only its place between two
+/// codes is used] (a calibration's `noise_rms_q16` and `bias_q16`).
 ///
 /// An ADC rounds the input `x + n` (per-sample noise `n` of sd `sigma` LSB) to a code; the
 /// mean code moves with the input's slow part `x` by the gain
@@ -180,9 +181,10 @@ fn rounded_moments(sigma: f32, u: f32) -> (f32, f32) {
 /// and its false-alarm rate is exponential in the alarm's sd multiple (a sd 1.12 times the
 /// learnt one makes the slow CUSUM's alarms 150 times as frequent). So each start test's sd
 /// is the learnt one times `r = g_max / g_min`, the zero at a code's centre (the zero walks:
-/// any place may be the one it learnt at): 1.37 at `sigma = 0.36` LSB, 1.03 at 0.5, 1 in Q16
-/// from 0.82 up. (The tightest bound, the largest secant over the local gain, is 1.23 at
-/// 0.36; it has no closed form.)
+/// any place may be the one it learnt at): 1.37 at an input noise `sigma = 0.36` LSB, 2.0
+/// at 0.3, 2.8 at 0.27, 1.03 at 0.5, 1 in Q16 from 0.82 up (codes' sd from about 0.87 LSB).
+/// (The tightest bound, the largest secant over the local gain, is 1.23 at 0.36; it has no
+/// closed form.)
 ///
 /// `sigma` and `u` come from the codes' rms and mean, solved from [`rounded_moments`]: the
 /// variance increases with `sigma` (a bisection of 20 steps at each `u` tried) and the mean
@@ -191,8 +193,17 @@ fn rounded_moments(sigma: f32, u: f32) -> (f32, f32) {
 /// instructions an axis in QEMU (the speed harness's `once quantizer_bound` line; 154 000
 /// in f64), about 1.2 ms at 96 MHz, once a calibration and only for codes below 1 LSB rms.
 /// The sampling goes on meanwhile; a block it cannot take in time is lost and held
-/// ([`crate::Tracker::lost`]): a few milliseconds of rest. Skipped from [`QUANT_RMS_EXACT`] up, where it
-/// is exactly 1; below [`QUANT_SIGMA_MIN`], `sigma` takes that value.
+/// ([`crate::Tracker::lost`]): a few milliseconds of rest. Skipped from a codes' sd of
+/// [`QUANT_RMS_EXACT`] up, where it is exactly 1; below [`QUANT_SIGMA_MIN`], `sigma` takes
+/// that value (`r` = 3.70, also for codes that never leave one value).
+///
+/// Where the zero sits near a boundary between two codes the codes' sd hardly depends on
+/// `sigma` (two codes half the time each: 0.5 LSB for any `sigma` below 0.3), so the
+/// inversion is ill-conditioned there: a calibration's sd, uncertain by several percent
+/// from one second, moves `r` from 1.21 to 2.56 for `sigma = 0.36` at 1 % to 2 % either
+/// way (at a centre by under 3 %). Too high only costs sensitivity; too low lets the heavier
+/// tail back in (not mended: the long rest's 40 quiet devices, at every place, had no false
+/// start).
 pub fn quantizer_bound_q16(rms_q16: u64, bias_q16: i64) -> u32 {
     const ONE: u32 = 1 << 16;
     if rms_q16 >= (QUANT_RMS_EXACT * 65_536.0) as u64 {
@@ -200,7 +211,7 @@ pub fn quantizer_bound_q16(rms_q16: u64, bias_q16: i64) -> u32 {
     }
     let rms = rms_q16 as f32 / 65_536.0;
     // The mean's place from the nearest code, in whole Q16 arithmetic, then in LSB.
-    let frac = (bias_q16 - ((bias_q16 + (1 << 15)) >> 16 << 16)) as f32 / 65_536.0;
+    let frac = ((bias_q16.wrapping_add(1 << 15)).rem_euclid(1 << 16) - (1 << 15)) as f32 / 65_536.0;
     // The input's sd at zero place `u`: the codes' variance increases with it (bisection).
     let sigma_at = |u: f32| {
         let (mut lo, mut hi) = (QUANT_SIGMA_MIN, rms + 0.5);
