@@ -117,6 +117,31 @@ fn a_store_of_garbage_runs_the_defaults_then_saves_again() {
 }
 
 #[test]
+fn a_store_read_as_corrupt_is_erased_by_the_next_save() {
+    // sequential-storage's own mock flash reads in its 4-byte write unit, with which the
+    // same pattern reads as corrupt: the defaults run, and the save that finds it corrupt
+    // erases it and writes (StoreError::Corrupt is the one error a save retries).
+    let mut f = MockFlashBase::<2, 4, 4096>::new(WriteCountCheck::OnceOnly, None, true);
+    for (i, b) in f.as_bytes_mut().iter_mut().enumerate() {
+        *b = (i * 7 + 3) as u8;
+    }
+    let range = MockFlashBase::<2, 4, 4096>::FULL_FLASH_RANGE;
+    let mut s = Store::new(f, range.clone()).expect("two whole pages");
+    let loaded = s.load();
+    assert_eq!(loaded.profile, Profile::default());
+    assert_eq!(loaded.source, Source::Corrupt);
+    s.save(&profile(1600))
+        .expect("a corrupt store is erased and written");
+    let again = Store::new(s.into_flash(), range)
+        .expect("two whole pages")
+        .load();
+    assert_eq!(
+        (again.source, again.profile),
+        (Source::Stored, profile(1600))
+    );
+}
+
+#[test]
 fn a_stored_profile_that_no_longer_validates_runs_the_defaults_and_names_the_key() {
     // Saved by a firmware that accepted it (adc_bits = 1 was accepted before issue 14).
     let mut bad = Profile::default();
