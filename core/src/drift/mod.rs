@@ -853,7 +853,8 @@ impl Detector {
     /// at rest).
     pub fn new(s: &DriftSettings, cal: &[Calibration; 3]) -> Self {
         let stream = TickStream::new(s, cal);
-        let noise = cal.map(|c| Noise::from_calibration(s, &c));
+        // Only X and Y feed the start tests ([`rest`]).
+        let noise = core::array::from_fn(|a| Noise::from_calibration(s, &cal[a], a < 2));
         let disturbance = cal.map(|c| Disturbance::new(s, &c));
         let mut d = Self {
             stream,
