@@ -119,7 +119,7 @@ impl Noise {
 
     /// From a calibration: its `q` at the upper 2-sd bound of its own uncertainty. `starts`:
     /// whether the axis feeds the start tests (X and Y); only those carry the quantizer's
-    /// bound, which costs about 116 000 instructions on a quiet sensor (Z's would be unused).
+    /// bound, which costs about 111 000 instructions on a quiet sensor (Z's would be unused).
     pub(crate) fn from_calibration(s: &DriftSettings, cal: &Calibration, starts: bool) -> Self {
         let ticks = u64::from(cal.samples / s.tick).max(1);
         let q = u128::from(cal.long_run_var_q32);
@@ -144,12 +144,12 @@ impl Noise {
 }
 
 /// Per-sample input noise [LSB] below which [`quantizer_bound_q16`] takes this value: the
-/// codes then sit on one value for 95 % of samples at a code's centre, and four terms of
-/// the gain's Fourier series no longer give it to 10^-3.
+/// codes then sit on one value for 95 % of samples at a code's centre, and two terms of
+/// the gain's Fourier series no longer give the bound to 10^-4 (1 % at 0.2 LSB).
 const QUANT_SIGMA_MIN: f32 = 0.25;
-/// The codes' rms [LSB] from which the quantizer's bound is exactly 1 in Q16: the input's
-/// noise is then at least 0.95 LSB, where `e_1 < 2^-18`.
-const QUANT_RMS_EXACT: f32 = 1.0;
+/// The codes' rms [Q16 LSB] from which the quantizer's bound is exactly 1 in Q16 (1 LSB): the
+/// input's noise is then at least 0.95 LSB, where `e_1 < 2^-18`.
+const QUANT_RMS_EXACT_Q16: u64 = 1 << 16;
 
 /// The rounded codes' mean and variance [LSB, LSB^2] for input noise of sd `sigma` [LSB] at
 /// `u` [LSB] from a code's centre: `p_j = Phi((j + 1/2 - u) / sigma) - Phi((j - 1/2 - u) /
@@ -195,13 +195,15 @@ fn rounded_moments(sigma: f32, u: f32) -> (f32, f32) {
 ///
 /// `sigma` and `u` come from the codes' rms and mean, solved from [`rounded_moments`]: the
 /// variance increases with `sigma` (a bisection of 20 steps at each `u` tried) and the mean
-/// with `u` (the secant method, to 10^-5 LSB in at most 10 steps). In `f32`, which the
-/// Cortex-M4F computes in hardware (the error function is libm's, in software): 116 000
+/// with `u` (the secant method, to 10^-5 LSB or 8 steps: near a code boundary, where `sigma`'s
+/// ill-conditioning leaves the error jagged at f32's resolution, it may stop at about
+/// 10^-4 LSB, which moves `r` by up to 0.1 %). In `f32`, which the
+/// Cortex-M4F computes in hardware (the error function is libm's, in software): 111 000
 /// instructions an axis in QEMU (the speed harness's `once quantizer_bound` line; 154 000
 /// in f64), about 1.2 ms at 96 MHz, once a calibration and only for codes below 1 LSB rms.
 /// The sampling goes on meanwhile; a block it cannot take in time is lost and held
 /// ([`crate::Tracker::lost`]): a few milliseconds of rest. Skipped from a codes' sd of
-/// [`QUANT_RMS_EXACT`] up, where it is exactly 1; below [`QUANT_SIGMA_MIN`], `sigma` takes
+/// [`QUANT_RMS_EXACT_Q16`] up, where it is exactly 1; below [`QUANT_SIGMA_MIN`], `sigma` takes
 /// that value (`r` = 3.70, also for codes that never leave one value).
 ///
 /// Where the zero sits near a boundary between two codes the codes' sd hardly depends on
@@ -213,23 +215,26 @@ fn rounded_moments(sigma: f32, u: f32) -> (f32, f32) {
 /// start).
 pub fn quantizer_bound_q16(rms_q16: u64, bias_q16: i64) -> u32 {
     const ONE: u32 = 1 << 16;
-    if rms_q16 >= (QUANT_RMS_EXACT * 65_536.0) as u64 {
+    if rms_q16 >= QUANT_RMS_EXACT_Q16 {
         return ONE;
     }
     let rms = rms_q16 as f32 / 65_536.0;
-    // The mean's place from the nearest code, in whole Q16 arithmetic, then in LSB.
-    let frac = ((bias_q16.wrapping_add(1 << 15)).rem_euclid(1 << 16) - (1 << 15)) as f32 / 65_536.0;
-    // The input's sd at zero place `u`: the codes' variance increases with it (bisection).
+    // The mean's distance from the nearest code, in whole Q16 arithmetic, then in LSB: the
+    // moments are symmetric about a code's centre (the mean's sign follows `u`'s, the
+    // variance does not see it), so `u` is solved on `0 ..= 0.5`.
+    let frac = ((bias_q16.wrapping_add(1 << 15)).rem_euclid(1 << 16) - (1 << 15)).unsigned_abs()
+        as f32
+        / 65_536.0;
+    // The input's sd at zero place `u`: the codes' variance increases with it (bisection;
+    // at the floor when even that gives more than the codes' variance).
     let sigma_at = |u: f32| {
         let (mut lo, mut hi) = (QUANT_SIGMA_MIN, rms + 0.5);
-        if rounded_moments(lo, u).1 < rms * rms {
-            for _ in 0..20 {
-                let mid = 0.5 * (lo + hi);
-                if rounded_moments(mid, u).1 < rms * rms {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
+        for _ in 0..20 {
+            let mid = 0.5 * (lo + hi);
+            if rounded_moments(mid, u).1 < rms * rms {
+                lo = mid;
+            } else {
+                hi = mid;
             }
         }
         lo
@@ -238,22 +243,27 @@ pub fn quantizer_bound_q16(rms_q16: u64, bias_q16: i64) -> u32 {
     // zero by the secant method, from the mean's own place (within 0.03 LSB of it).
     let error = |u: f32| rounded_moments(sigma_at(u), u).0 - frac;
     let (mut u0, mut e0) = (frac, error(frac));
-    let mut u = (u0 - e0).clamp(-0.5, 0.5);
+    // The second point: the first corrected by its error at unit slope (the mean code moves
+    // with the zero at a gain near 1).
+    let guess = frac - e0;
+    let mut u = guess.clamp(0.0, 0.5);
     let mut e = error(u);
     for _ in 0..8 {
         if libm::fabsf(e) < 1e-5 || e == e0 {
             break;
         }
-        let next = (u - e * (u - u0) / (e - e0)).clamp(-0.5, 0.5);
+        let next = (u - e * (u - u0) / (e - e0)).clamp(0.0, 0.5);
         (u0, e0) = (u, e);
         u = next;
         e = error(u);
     }
     let sigma = sigma_at(u);
     let w = 2.0 * core::f32::consts::PI * core::f32::consts::PI * sigma * sigma;
-    let e = [1.0, 4.0, 9.0, 16.0].map(|k2| 2.0 * libm::expf(-w * k2));
-    let g_max = 1.0 + e[0] + e[1] + e[2] + e[3];
-    let g_min = 1.0 - e[0] + e[1] - e[2] + e[3];
+    // Two terms of the series: from the floor up, the rest (`2 e_3 + ...`, 3.0e-5 at sigma =
+    // 0.25) moves `r` by under 10^-4 of itself.
+    let e = [1.0, 4.0].map(|k2| 2.0 * libm::expf(-w * k2));
+    let g_max = 1.0 + e[0] + e[1];
+    let g_min = 1.0 - e[0] + e[1];
     let r = crate::math::round_to_u64(f64::from(g_max / g_min) * 65_536.0);
     r.clamp(u64::from(ONE), u64::from(u32::MAX)) as u32
 }
@@ -629,6 +639,87 @@ mod tests {
         let n = Noise::from_calibration(&s, &cal(1.1, 2048.3), true);
         assert_eq!(n.quant_q16, 1 << 16);
         assert_eq!(n.sd_q16 as u128, bare(&n));
+    }
+
+    #[test]
+    fn the_calibrated_variance_is_raised_to_its_upper_two_sd_bound() {
+        let Ok(s) = crate::drift::Drift::default().validate(3000, 0.0235) else {
+            panic!("the default drift control is valid at 3 kHz");
+        };
+        // 1 s at 3 kHz: k = 3000 / D ticks, q raised by 1 + 2 sqrt(8 / k).
+        let c = cal(1.1, 2048.3);
+        let k = f64::from(c.samples / s.tick);
+        let want = 3.0 * (1.0 + 2.0 * (8.0 / k).sqrt());
+        let n = Noise::from_calibration(&s, &c, true);
+        let got = n.q_q32 as f64 / 4_294_967_296.0;
+        // Q8 factor, the square root taken of a Q16 integer: within 0.5 %.
+        assert!((got / want - 1.0).abs() < 0.005, "{got} against {want}");
+        // A shorter calibration is less certain: a quarter of the ticks, twice the margin.
+        let short = Calibration {
+            samples: c.samples / 4,
+            ..c
+        };
+        let got = Noise::from_calibration(&s, &short, true).q_q32 as f64 / 4_294_967_296.0;
+        let want = 3.0 * (1.0 + 4.0 * (8.0 / k).sqrt());
+        assert!((got / want - 1.0).abs() < 0.005, "{got} against {want}");
+    }
+
+    #[test]
+    fn the_rounded_codes_moments_are_the_direct_sums_over_the_codes() {
+        // The same moments in f64, over codes to 12 sd, from the error function's own
+        // series-free definition: Phi by Simpson's rule over the density.
+        let phi = |x: f64| {
+            let steps = 4000;
+            let (a, b) = (-12.0, x.max(-12.0));
+            let h = (b - a) / f64::from(steps);
+            let f = |t: f64| (-0.5 * t * t).exp() / (2.0 * core::f64::consts::PI).sqrt();
+            let mut sum = f(a) + f(b);
+            for i in 1..steps {
+                sum += f(a + f64::from(i) * h) * if i % 2 == 1 { 4.0 } else { 2.0 };
+            }
+            sum * h / 3.0
+        };
+        for (sigma, u) in [(0.3f64, 0.2f64), (0.36, -0.4), (0.5, 0.1), (0.9, 0.45)] {
+            let (mut m1, mut m2) = (0.0, 0.0);
+            for j in -12..=12 {
+                let j = f64::from(j);
+                let p = phi((j + 0.5 - u) / sigma) - phi((j - 0.5 - u) / sigma);
+                m1 += j * p;
+                m2 += j * j * p;
+            }
+            let (mean, var) = rounded_moments(sigma as f32, u as f32);
+            assert!(
+                (f64::from(mean) - m1).abs() < 1e-4,
+                "mean {mean} against {m1}"
+            );
+            assert!((f64::from(var) - (m2 - m1 * m1)).abs() < 1e-4, "var {var}");
+            // The mean follows the zero's place: toward it, never away.
+            assert_eq!(mean.signum(), u.signum() as f32);
+        }
+    }
+
+    #[test]
+    fn a_disturbance_with_another_amplitude_keeps_its_frequency_and_state() {
+        let Ok(s) = crate::drift::Drift::default().validate(3000, 0.0235) else {
+            panic!("the default drift control is valid at 3 kHz");
+        };
+        let d = Disturbance {
+            amp_q16: 5 << 16,
+            bin: 1,
+            ..Disturbance::new(&s, &cal(1.1, 2048.3))
+        };
+        let desk = d.with_amplitude(2 << 16);
+        assert_eq!(desk.amp_q16, 2 << 16);
+        assert_eq!(
+            Disturbance {
+                amp_q16: d.amp_q16,
+                ..desk
+            },
+            d
+        );
+        // What it allows scales with the amplitude it was given (the landing allows the
+        // desk's as it was when the device was lifted).
+        assert_eq!(desk.allow(1 << 16, 10) * 5, d.allow(1 << 16, 10) * 2);
     }
 
     #[test]
