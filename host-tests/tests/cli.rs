@@ -179,6 +179,28 @@ fn a_bad_argument_is_named_on_stderr_with_status_2() {
             vec!["mouse", "--trace", "drags:1", "--every-ms", "0"],
             "--every-ms 0: 1..=60000 ms between trace lines",
         ),
+        // A trial the full run does not have, a negative value given as such, an option
+        // the trace would ignore (a second new user's trial).
+        (
+            vec!["mouse", "--trace", "strokes:200"],
+            "--trace strokes:200: K, the trial of strokes: 0..200",
+        ),
+        (
+            vec!["mouse", "--trace", "vibration-rest:x"],
+            "--trace vibration-rest:x: K, the trial of vibration-rest: 0..20",
+        ),
+        (
+            vec!["mouse", "--trace", "drags:1", "--noise-ug", "-5"],
+            "--noise-ug -5: must be above 0",
+        ),
+        (
+            vec!["mouse", "--trace", "drags:1", "--fs", "-100"],
+            "invalid value '-100' for '--fs <FS>'",
+        ),
+        (
+            vec!["mouse", "--trace", "drags:1", "--json"],
+            "the argument '--trace <FAMILY:K>' cannot be used with '--json'",
+        ),
         (
             vec!["mouse", "--rest-minutes", "1e12"],
             "--rest-minutes 1e12: at most",

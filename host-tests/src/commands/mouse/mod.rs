@@ -355,18 +355,25 @@ pub struct Args {
     /// or map).
     #[arg(long)]
     pub families: bool,
-    /// Trace one trial of a family, `FAMILY:K` (e.g. `drags:17`): every change of drift
-    /// control's state, with the cursor and the velocity.
-    #[arg(long, value_name = "FAMILY:K")]
+    /// Trace one trial of a family, `FAMILY:K` (e.g. `drags:17`, K below the full run's
+    /// trials): every change of drift control's state, with the cursor and the velocity.
+    #[arg(
+        long,
+        value_name = "FAMILY:K",
+        conflicts_with_all = ["json", "families", "long_rest", "sensitivity"]
+    )]
     pub trace: Option<String>,
-    /// The traced device's sampling rate [Hz] (the board's sensor otherwise).
-    #[arg(long, requires = "trace")]
+    /// The traced device's sampling rate [Hz]: trial K of that rate's sweep row (`strokes`;
+    /// the board's sensor and the family's own trial K without it, or at 3000).
+    #[arg(long, requires = "trace", allow_negative_numbers = true)]
     pub fs: Option<u32>,
-    /// The traced device's noise density [ug/sqrt(Hz)].
-    #[arg(long, requires = "trace")]
+    /// The traced device's noise density [ug/sqrt(Hz)]; with `--bits`, trial K of that
+    /// sensor's sweep row (`strokes`).
+    #[arg(long, requires = "trace", allow_negative_numbers = true)]
     pub noise_ug: Option<f64>,
-    /// The traced device's ADC resolution [bits].
-    #[arg(long, requires = "trace")]
+    /// The traced device's ADC resolution [bits]; with `--noise-ug`, trial K of that
+    /// sensor's sweep row (`strokes`).
+    #[arg(long, requires = "trace", allow_negative_numbers = true)]
     pub bits: Option<u8>,
     /// A trace line every this many milliseconds as well as at each decision, `1..=60000`.
     #[arg(long, requires = "trace", value_name = "MS")]
@@ -448,7 +455,20 @@ pub fn run(a: &Args) -> super::Outcome {
         };
         let (name, k) = t.split_once(':').ok_or_else(bad)?;
         let kind = families::Kind::from_name(name).ok_or_else(bad)?;
-        let k: usize = k.parse().map_err(|_| bad())?;
+        // The full run's trials of the family (a sweep row has as many as a family).
+        let full = families::Sizes::FULL;
+        let n = if kind == families::Kind::VibrationRest {
+            full.rest.0.max(4)
+        } else {
+            full.trials.max(full.sweep_trials)
+        };
+        let k = k.parse::<usize>().ok().filter(|&k| k < n).ok_or_else(|| {
+            super::Error::arg(
+                "trace",
+                t,
+                format!("K, the trial of {name}: 0..{n} (the full run's)"),
+            )
+        })?;
         let d = SensorSpec::ADXL335;
         let spec = SensorSpec {
             fs: a.fs.map_or(d.fs, f64::from),
