@@ -370,6 +370,17 @@ impl Tracker {
                     }
                 }
             }
+            Action::Land { bias, blocks } => {
+                self.counters.motions += 1;
+                if self.axes.iter().zip(bias).any(|(a, b)| a.bias_q16() != b) {
+                    self.counters.rebiases += 1;
+                }
+                for (axis, b) in self.axes.iter_mut().zip(bias) {
+                    axis.track_bias_q16(b);
+                    axis.zero_velocity();
+                }
+                self.replay(blocks);
+            }
             Action::TrackBias(b) => {
                 for (axis, b) in self.axes.iter_mut().zip(b) {
                     axis.track_bias_q16(b);

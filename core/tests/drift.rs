@@ -314,6 +314,81 @@ fn a_lift_and_a_tilted_landing_do_not_move_the_cursor() {
 }
 
 #[test]
+fn a_stroke_begun_just_after_a_set_down_arrives() {
+    // Lifted 2 cm in 0.3 s (Z: +54, -54 LSB), held 0.2 s, set down in 0.3 s (-54, +54) flat
+    // or on a 3 degree slope (X +21 LSB from the set-down on), then at rest for `gap` and a
+    // stroke on X: +20 LSB for 0.1 s, -20 for 0.1 s, 4.79 mm = 150.8 counts (see
+    // `a_stroke_arrives_whole_despite_the_detector_window`). At 0.2 s the stroke begins
+    // inside the landing's window (0.26 s), after its first two thirds; at 1 s (the control)
+    // after the landing. Each arrives whole. Without the rule the first is lost.
+    let scene = |gap: usize, slope: u16| {
+        move |i: usize, n: &mut Noise| {
+            let z = match i {
+                3000..=3449 | 4950..=5399 => 2102,
+                3450..=3899 | 4500..=4949 => 1994,
+                _ => 2048,
+            };
+            let level = if i >= 5400 { 2048 + slope } else { 2048 };
+            let x = match i.checked_sub(5400 + gap) {
+                Some(0..=299) => level + 20,
+                Some(300..=599) => level - 20,
+                _ => level,
+            };
+            [n.code(x), n.code(2048), n.code(z)]
+        }
+    };
+    // Over the motion's 0.3 s (the stroke and its stop), the noise (1 LSB^2 a sample) moves
+    // each axis by 1.3 counts sd and the zero by 0.6 (the calibration's, 1 / sqrt(3000) LSB)
+    // or 1.45 (a new one from the 0.18 s of rest, 1 / sqrt(540) LSB): 3 sd of the sum is 4.5
+    // or 5.9 counts.
+    for (gap, slope, rebiases, tol) in [(600, 0, 0, 4), (3000, 0, 0, 4), (600, 21, 1, 6)] {
+        let mut t = tracker(Some(Drift::default()));
+        let mut n = Noise(Trace::new(11));
+        let f = scene(gap, slope);
+        let a = run(&mut t, 5400 + gap + 3000, |i| f(i, &mut n));
+        let c = t.counters();
+        let case = format!("gap {gap}, slope {slope}: {a:?} {c:?}");
+        assert_eq!((c.lifts, c.rebiases, c.motions), (1, rebiases, 1), "{case}");
+        assert!((a[0] - 151).abs() <= tol, "{case}");
+        assert!(a[1].abs() <= tol, "{case}");
+        assert!(t.is_still(), "{case}");
+    }
+}
+
+#[test]
+fn a_stroke_on_a_pad_that_tilted_and_settled_arrives() {
+    // The pad tilts 3 degrees at once (X +21 LSB), settles, and 0.5 s later, while the tilt
+    // is still held (it is confirmed only after 1 s one-sided), a stroke on X: +20 LSB for
+    // 0.1 s, -20 for 0.1 s, 150.8 counts. The change from the settled level begins a shadow
+    // from that level; the stroke goes both ways against it, so the shadow wins at its end
+    // and the stroke arrives. Without the change's shadow the stroke is lost with the tilt's
+    // held runaway when the tilt is confirmed.
+    let scene = |i: usize, n: &mut Noise| {
+        let x = match i {
+            0..=2999 => 2048,
+            4500..=4799 => 2089,
+            4800..=5099 => 2049,
+            _ => 2069,
+        };
+        [n.code(x), n.code(2048), n.code(2048)]
+    };
+    let mut t = tracker(Some(Drift::default()));
+    let mut n = Noise(Trace::new(13));
+    // The tilt's runaway before the hold is delivered; what counts is what comes after.
+    run(&mut t, 4500, |i| scene(i, &mut n));
+    assert!(t.is_holding(), "{:?}", t.drift_state());
+    let a = run(&mut t, 9000, |i| scene(i + 4500, &mut n));
+    // The shadow integrates at most 0.4 s (its replayed sub-window, the stroke, its stop):
+    // the noise (1 LSB^2 a sample) moves it by 2.0 counts sd, its level's error (0.3 s of
+    // rest: 1 / sqrt(900) LSB) by 2.0: 3 sd of the sum is 8.5 counts on each axis.
+    assert!((a[0] - 151).abs() <= 8, "{a:?}");
+    assert!(a[1].abs() <= 8, "{a:?}");
+    assert_eq!((t.counters().discarded, t.counters().rebiases), (1, 1));
+    assert!(t.is_still(), "{:?}", t.drift_state());
+    assert!(!t.is_holding());
+}
+
+#[test]
 fn a_knock_moves_nothing_and_keeps_the_bias() {
     // A knock on the desk: Z rings at +-80 LSB for 30 ms, X at +-10 LSB (at 167 Hz: it moves
     // the device by micrometres). It is integrated, exactly, and returns: nothing is

@@ -158,12 +158,11 @@ fn a_pad_settling_onto_the_level_its_shadow_took_is_not_delivered() {
 
 #[test]
 fn strokes_after_a_tilt_arrive() {
-    // Target 3: a stroke 0.1-2 s after a pad tilt or a set-down. Measured 86 % of 200 in
-    // the full family (the target is 90 %: missed, see docs/drift-control.md); asserted at
-    // what 60 trials of an 85 % process show but for 0.1 %.
+    // Target 3: a stroke 0.1-2 s after a pad tilt or a set-down, at least 90 % within;
+    // asserted at what 60 trials of a 90 % process show but for 0.1 %.
     let n = 60;
     let f = run(Kind::AfterTilt, Drift::default(), n, 7);
-    assert!(f.within >= least_within(0.85, n), "{:.3} within", f.within);
+    assert!(f.within >= least_within(0.9, n), "{:.3} within", f.within);
     // Control: a tilt confirmed only after the longest stroke: what the tilt left in the
     // zero and its held runaway spoil the strokes after it.
     let c = run(
@@ -181,6 +180,48 @@ fn strokes_after_a_tilt_arrive() {
         c.within,
         f.within
     );
+}
+
+/// Whether trial `k` of `kind` (seed 1, the board's sensor) is within its target.
+fn trial_within(kind: Kind, k: usize) -> bool {
+    let dev = families::board_device(Some(Drift::default()), 1);
+    let avg = families::averaging_s(Some(Drift::default()));
+    families::trial(kind, &dev, k, 1, avg)
+        .iter()
+        .all(|r| r.error_m <= r.allowed_m)
+}
+
+#[test]
+fn a_stroke_on_a_settled_tilted_pad_arrives_from_the_change() {
+    // The full family's trials (seed 1) in which the pad tilted and settled and the hand
+    // moved while the tilt was still held: each stroke was lost whole, dropped with the
+    // tilt's runaway when the tilt was confirmed, until the change from the settled level
+    // began a shadow from it (tilt.rs).
+    for k in [13, 115, 118, 141, 146] {
+        assert!(trial_within(Kind::AfterTilt, k), "after-tilt trial {k}");
+    }
+}
+
+#[test]
+fn a_long_strokes_crest_is_not_taken_for_a_tilts_level() {
+    // The full family's trials (seed 1) in which a long stroke's acceleration stood steady
+    // at its crest, then changed: the shadow from the crest's level came to rest first and
+    // took the stroke's first half for a tilt, until a shadow begun at a change could win
+    // only once it had gone both ways against its level on one axis.
+    for k in [141, 143] {
+        assert!(trial_within(Kind::Strokes, k), "strokes trial {k}");
+    }
+}
+
+#[test]
+fn a_slow_tilt_that_changes_while_held_is_confirmed_from_its_last_level() {
+    // The full family's trials (seed 1) in which a slow tilt's own change began a shadow
+    // that never went both ways (more of the tilt): it kept the tilt's confirmation from
+    // taking the latest steady level, and the stroke after it was lost, until the
+    // confirmation ended such a shadow.
+    for k in [131, 154] {
+        assert!(trial_within(Kind::AfterTilt, k), "after-tilt trial {k}");
+    }
 }
 
 #[test]

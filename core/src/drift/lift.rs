@@ -45,6 +45,17 @@
 //! last third's means if any differs from the old zero by more than its noise allows (set
 //! down on a slope), and stay otherwise. The lift test then waits `W` ticks, until its
 //! window holds only ticks at the new zero.
+//!
+//! A hand may move the device before the window is steady (a stroke begun 0.1 to 0.25 s
+//! after the set-down would otherwise stay Lifted until it ends, and be lost). So when, the
+//! fall seen, the window is not steady, but its first two thirds agree on every axis and its
+//! last third agrees with them on Z and not on X or Y (the device rests on the desk, and
+//! moves along it), the device landed: the zeros become the first two thirds' means if they
+//! differ from the old ones by more than their noise allows, and a motion starts from zero
+//! velocity at the last third ([`super::Action::Land`]), wary as after a tilt's new zero (held
+//! until its acceleration reverses: a pad still settling never does, [`super::tilt`]). It
+//! needs two thirds of the window at rest, 0.17 s: a stroke begun sooner after the set-down is
+//! still lost.
 
 use super::noise::within;
 use super::ticks::offset_q16;
@@ -275,21 +286,12 @@ impl Detector {
         for (a, b) in bias.iter().enumerate() {
             let t = thirds(self, s, a, m, *b);
             let noise = &self.noise[a];
-            let steady = |i: usize, j: usize| {
-                let ((oi, ni), (oj, nj)) = (t[i], t[j]);
-                // The difference of two means, compared over the shorter length.
-                let n = ni.min(nj);
-                let di = crate::math::div_round(oi, ni as i64) * n as i64;
-                let dj = crate::math::div_round(oj, nj as i64) * n as i64;
-                let desk = self.disturbance[a].with_amplitude(self.lift.desk[a]);
-                let allow = desk.allow(
-                    desk.gains(s).land_q16,
-                    crate::math::div_u64(n, u64::from(s.tick)),
-                );
-                within(di - dj, noise.var(2 * n, u64::MAX), s.k2_q8, 2 * allow)
-            };
-            if !(steady(0, 1) && steady(1, 2)) {
-                return Action::None;
+            if !(self.steady(s, a, t, 0, 1) && self.steady(s, a, t, 1, 2)) {
+                return if self.lift.fell {
+                    self.hand_on_landing(s, bias)
+                } else {
+                    Action::None
+                };
             }
             let (o, n) = t[2];
             n_last = n;
@@ -306,6 +308,78 @@ impl Detector {
             }
         } else {
             Action::Stop
+        }
+    }
+
+    /// Whether thirds `i` and `j` of `t` on `axis` agree (see the module docs).
+    fn steady(
+        &self,
+        s: &DriftSettings,
+        axis: usize,
+        t: [(i64, u64); 3],
+        i: usize,
+        j: usize,
+    ) -> bool {
+        let ((oi, ni), (oj, nj)) = (t[i], t[j]);
+        // The difference of two means, compared over the shorter length.
+        let n = ni.min(nj);
+        let di = crate::math::div_round(oi, ni as i64) * n as i64;
+        let dj = crate::math::div_round(oj, nj as i64) * n as i64;
+        let desk = self.disturbance[axis].with_amplitude(self.lift.desk[axis]);
+        let allow = desk.allow(
+            desk.gains(s).land_q16,
+            crate::math::div_u64(n, u64::from(s.tick)),
+        );
+        within(
+            di - dj,
+            self.noise[axis].var(2 * n, u64::MAX),
+            s.k2_q8,
+            2 * allow,
+        )
+    }
+
+    /// Landed and at once moved (see the module docs): the landing window's first two
+    /// thirds agree on every axis, its last third on Z but not on X or Y. The zeros become the
+    /// first two thirds' means if those differ from the old ones, and a motion starts at the
+    /// last third, wary.
+    fn hand_on_landing(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Action {
+        let m = s.land_blocks;
+        let mut early = bias;
+        let mut n_early = 0;
+        let mut changed = false;
+        let mut differs = false;
+        for (a, b) in bias.iter().enumerate() {
+            let t = thirds(self, s, a, m, *b);
+            if !self.steady(s, a, t, 0, 1) {
+                return Action::None;
+            }
+            let ((o0, n0), (o1, n1)) = (t[0], t[1]);
+            let n = n0 + n1;
+            early[a] = *b + crate::math::div_round(o0 + o1, n as i64);
+            n_early = n;
+            differs |= !within(o0 + o1, self.noise[a].var(n, self.bias_samples), s.k2_q8, 0);
+            let moved = !self.steady(s, a, t, 1, 2);
+            if moved && a == 2 {
+                return Action::None;
+            }
+            changed |= moved;
+        }
+        if !changed {
+            return Action::None;
+        }
+        self.enter_still();
+        self.tilted(s);
+        let zero = if differs {
+            self.bias_samples = n_early;
+            early
+        } else {
+            bias
+        };
+        let back = u64::from(m / 3) * u64::from(s.block);
+        let onset = self.stream.ticks() - back.min(self.stream.ticks());
+        match self.start(s, onset, false, zero) {
+            Action::Start { blocks, .. } => Action::Land { bias: zero, blocks },
+            other => other,
         }
     }
 

@@ -28,6 +28,7 @@
 //!   ^  <-- quiet, velocity explained ------------- |  ^ <------ reverses, quiets ------ |
 //!   |  <-- one-sided and steady: a tilt, new zero ------------------------------------ |
 //!   +-- steady (new zero if it differs) --- Lifted <-- vertical displacement (any state)
+//!                                             +-- rests, then moves along the desk --> Moving (wary)
 //!   +-- click freeze over ----------------- Frozen <-- button edge (any state)
 //! ```
 //!
@@ -801,6 +802,16 @@ pub enum Action {
         bias: [i64; 3],
         /// Drop the position not yet delivered.
         discard: bool,
+    },
+    /// Landed, and a motion began on the desk before the landing's window was steady: the
+    /// zeros (new ones if the rest between differs from the old, the old ones otherwise),
+    /// then a motion from zero velocity over the last `blocks` complete blocks and the
+    /// current block so far, as [`Action::Start`] ([`lift`]).
+    Land {
+        /// The zeros [Q16 counts].
+        bias: [i64; 3],
+        /// Complete blocks to replay, `0..BLOCKS`.
+        blocks: usize,
     },
     /// New zeros (Q16 counts) from tracking at rest; nothing else changes.
     TrackBias([i64; 3]),

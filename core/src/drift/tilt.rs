@@ -50,6 +50,20 @@
 //!   goes on settling after the level was taken only adds to its tilt, and its shadow's
 //!   motion is dropped with the rest ([`super::Action::Rebias`]). If neither has within the longest stroke, the tilt hypothesis wins while the
 //!   acceleration is still one-sided, the motion's otherwise.
+//! - **A change while held**: held, the three short sub-windows before the last steady
+//!   and significant (a level), and the last not steady with them. Either the pad settled
+//!   and a hand moved it (the stroke would otherwise be dropped with the tilt's runaway when
+//!   the tilt is confirmed), or the acceleration of the held stroke itself stood steady at
+//!   its crest and now falls. A shadow from that level, replaying the last sub-window, tells
+//!   them apart at its end, as at a release, with one more condition: it may win only once
+//!   one axis's short sub-windows have gone both ways against the level, as a hand's stroke
+//!   from rest does (two lobes), while a crest's fall goes one way (a shadow begun at the
+//!   crest is quiet and its velocity small while the acceleration rounds the crest, and
+//!   without this it would take the stroke's first half for a tilt). Where a crest's noise
+//!   makes both signs the shadow can still win wrongly (seed 2's trial 68 of the 14- and
+//!   16-bit sweeps, 73 mm). If the tilt is confirmed before such a shadow has gone both
+//!   ways, the change was more of the tilt: the shadow ends and the confirmation goes on as
+//!   without it (the latest steady level).
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
 //!   stroke is that long. The held motion is dropped and the zeros become the level of the
 //!   latest steady stretch (three short sub-windows in a row that agree on every axis within
@@ -102,6 +116,23 @@ pub struct Tilt {
     /// it (a hand's, see `Detector::shadow_against`).
     shadow_dir: [i8; 2],
     shadow_turned: bool,
+    /// While a shadow runs: the signs its short sub-windows took against the level, a bit
+    /// per axis and sign (bit `2 a` negative, `2 a + 1` positive), and whether it may win
+    /// only once one axis has taken both (a shadow begun at a change while held).
+    shadow_signs: u8,
+    shadow_two_sided: bool,
+}
+
+/// Where a shadow began (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Origin {
+    /// At a release: the held acceleration changed from a significant level and stopped
+    /// being one-sided.
+    Release,
+    /// While held: a steady significant level, then a change; it may win only two-sided.
+    Change,
+    /// At a tilt's confirmation: something changed after the latest steady level; certain.
+    Confirmed,
 }
 
 impl Tilt {
@@ -202,6 +233,9 @@ impl Detector {
         for (a, &dir) in self.tilt.shadow_dir.iter().enumerate() {
             let sign = self.sub_sign(s, 0, a, back, level[a]);
             self.tilt.shadow_turned |= sign != 0 && sign != dir;
+            if sign != 0 {
+                self.tilt.shadow_signs |= 1 << (2 * a + usize::from(sign > 0));
+            }
         }
     }
 
@@ -238,37 +272,7 @@ impl Detector {
         let sided = self.one_sided_blocks(s);
         let confirmed = (0..2).rev().find(|&scale| sided[scale] > s.tilt_blocks[1]);
         if let (Some(scale), None) = (confirmed, self.tilt.shadow) {
-            let m = s.sub_blocks[0];
-            let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
-            match self.steady_level(s, bias) {
-                // Steady at the end: the zeros, and rest.
-                Some((1, level)) => {
-                    self.enter_still();
-                    self.tilted(s);
-                    self.bias_samples = 3 * n;
-                    return Action::Rebias {
-                        bias: level,
-                        discard: true,
-                    };
-                }
-                // Something changed after the steady stretch: it goes on as the shadow.
-                Some((j, level)) => return self.begin_shadow(s, level, bias, j - 1, true),
-                None => {}
-            }
-            // Still tilting: the zeros become the longest one-sided sub-window's means.
-            let m = s.sub_blocks[scale];
-            let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
-            let level: [i64; 3] = core::array::from_fn(|a| {
-                let o = offset_q16(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
-                bias[a] + crate::math::div_round(o, n as i64)
-            });
-            self.enter_still();
-            self.tilted(s);
-            self.bias_samples = n;
-            return Action::Rebias {
-                bias: level,
-                discard: true,
-            };
+            return self.confirm(s, bias, scale);
         }
         let held = self.tilt.wary || sided.iter().any(|&b| b >= hold);
         if self.tilt.shadow.is_some() {
@@ -276,23 +280,77 @@ impl Detector {
         }
         if self.tilt.held && !held {
             if let Some(level) = self.level_before_change(s, bias) {
-                return self.begin_shadow(s, level, bias, 1, false);
+                return self.begin_shadow(s, level, bias, 1, Origin::Release);
+            }
+        }
+        // Held, steady at a significant level, and changed in the last sub-window: a hand
+        // on a tilted pad, or the crest of the same stroke; a shadow from the level tells
+        // them apart at its end (a two-sided one: see the module docs).
+        // (The stretch before the last sub-window first: a held stroke's rarely is steady.)
+        if self.tilt.held && held {
+            if let Some(level) = self.steady_stretch(s, bias, 2) {
+                if self.steady_stretch(s, bias, 1).is_none() {
+                    return self.begin_shadow(s, level, bias, 1, Origin::Change);
+                }
             }
         }
         self.tilt.held = held;
         Action::None
     }
 
+    /// A tilt confirmed at `scale`: the held motion is dropped, the zeros become the level of
+    /// the latest steady stretch (a shadow from it if something changed after it), or, still
+    /// tilting, the longest one-sided sub-window's means.
+    fn confirm(&mut self, s: &DriftSettings, bias: [i64; 3], scale: usize) -> Action {
+        let m = s.sub_blocks[0];
+        let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
+        match self.steady_level(s, bias) {
+            // Steady at the end: the zeros, and rest.
+            Some((1, level)) => {
+                self.enter_still();
+                self.tilted(s);
+                self.bias_samples = 3 * n;
+                return Action::Rebias {
+                    bias: level,
+                    discard: true,
+                };
+            }
+            // Something changed after the steady stretch: it goes on as the shadow.
+            Some((j, level)) => return self.begin_shadow(s, level, bias, j - 1, Origin::Confirmed),
+            None => {}
+        }
+        // Still tilting: the zeros become the longest one-sided sub-window's means.
+        self.rezero_on_last(s, bias, scale)
+    }
+
+    /// The held motion dropped, the zeros the last sub-window's means at `scale`; Still.
+    fn rezero_on_last(&mut self, s: &DriftSettings, bias: [i64; 3], scale: usize) -> Action {
+        let m = s.sub_blocks[scale];
+        let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
+        let level: [i64; 3] = core::array::from_fn(|a| {
+            let o = offset_q16(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
+            bias[a] + crate::math::div_round(o, n as i64)
+        });
+        self.enter_still();
+        self.tilted(s);
+        self.bias_samples = n;
+        Action::Rebias {
+            bias: level,
+            discard: true,
+        }
+    }
+
     /// A shadow against the zeros `level` (the motion's: `bias`) from `subs` short
-    /// sub-windows back; `certain` when the tilt is confirmed.
+    /// sub-windows back, begun at `origin`.
     fn begin_shadow(
         &mut self,
         s: &DriftSettings,
         level: [i64; 3],
         bias: [i64; 3],
         subs: u32,
-        certain: bool,
+        origin: Origin,
     ) -> Action {
+        let certain = origin == Origin::Confirmed;
         let m = u64::from(s.sub_blocks[0] * subs);
         let blocks = m.min(self.stream.blocks().saturating_sub(1));
         let samples = blocks * u64::from(s.block) * u64::from(s.tick)
@@ -300,6 +358,8 @@ impl Detector {
         self.tilt.shadow = Some((level, samples, self.stream.ticks(), certain));
         self.tilt.shadow_dir = core::array::from_fn(|a| (level[a] - bias[a]).signum() as i8);
         self.tilt.shadow_turned = false;
+        self.tilt.shadow_signs = 0;
+        self.tilt.shadow_two_sided = origin == Origin::Change;
         // The shadow's replayed stretch is judged as its later blocks will be: its short
         // sub-windows, back to back, against the level.
         let short = u64::from(s.sub_blocks[0]);
@@ -314,48 +374,54 @@ impl Detector {
     }
 
     /// The latest steady stretch among the last few short sub-windows: the first `j` (1 =
-    /// the last sub-window) such that sub-windows `j, j + 1, j + 2` back agree on every axis
-    /// and are significant on X or Y, with their level (Q16 counts).
+    /// the last sub-window) whose [`Self::steady_stretch`] is, with its level (Q16 counts).
     fn steady_level(&self, s: &DriftSettings, bias: [i64; 3]) -> Option<(u32, [i64; 3])> {
+        let deepest = ((super::BLOCKS as u32 - 1) / s.sub_blocks[0])
+            .saturating_sub(2)
+            .min(6);
+        (1..=deepest).find_map(|j| self.steady_stretch(s, bias, j).map(|level| (j, level)))
+    }
+
+    /// The level (Q16 counts) of short sub-windows `j, j + 1, j + 2` back (`j >= 1`, 1 = the
+    /// last), if they lie within the motion, agree on every axis and are significant on X or
+    /// Y.
+    fn steady_stretch(&self, s: &DriftSettings, bias: [i64; 3], j: u32) -> Option<[i64; 3]> {
         let m = s.sub_blocks[0];
         let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
-        let deepest = ((super::BLOCKS as u32 - 1) / m).saturating_sub(2).min(6);
-        (1..=deepest).find_map(|j| {
-            if self.motion.samples < u64::from(j + 2) * n {
+        if self.motion.samples < u64::from(j + 2) * n {
+            return None;
+        }
+        let mut level = bias;
+        let mut significant = false;
+        for (a, b) in bias.iter().enumerate() {
+            let o: [i64; 3] = core::array::from_fn(|i| {
+                let back = m * (j - 1 + i as u32);
+                offset_q16(self.stream.blocks_sum(a, back + 1, back + m + 1), n, *b)
+            });
+            let d = &self.disturbance[a];
+            let allow = 2 * d.allow(
+                d.gains(s).sub_q16[0],
+                crate::math::div_u64(n, u64::from(s.tick)),
+            );
+            let var = self.noise[a].var(2 * n, u64::MAX);
+            if !(within(o[0] - o[1], var, s.k2_q8, allow)
+                && within(o[1] - o[2], var, s.k2_q8, allow))
+            {
                 return None;
             }
-            let mut level = bias;
-            let mut significant = false;
-            for (a, b) in bias.iter().enumerate() {
-                let o: [i64; 3] = core::array::from_fn(|i| {
-                    let back = m * (j - 1 + i as u32);
-                    offset_q16(self.stream.blocks_sum(a, back + 1, back + m + 1), n, *b)
-                });
-                let d = &self.disturbance[a];
-                let allow = 2 * d.allow(
-                    d.gains(s).sub_q16[0],
-                    crate::math::div_u64(n, u64::from(s.tick)),
-                );
-                let var = self.noise[a].var(2 * n, u64::MAX);
-                if !(within(o[0] - o[1], var, s.k2_q8, allow)
-                    && within(o[1] - o[2], var, s.k2_q8, allow))
-                {
-                    return None;
-                }
-                let sum: i64 = o.iter().sum();
-                if a < 2 {
-                    let var = self.noise[a].var(3 * n, self.bias_samples);
-                    significant |= !within(sum, var, s.k2_q8, 3 * allow / 2);
-                }
-                level[a] = *b + crate::math::div_round(sum, 3 * n as i64);
+            let sum: i64 = o.iter().sum();
+            if a < 2 {
+                let var = self.noise[a].var(3 * n, self.bias_samples);
+                significant |= !within(sum, var, s.k2_q8, 3 * allow / 2);
             }
-            significant.then_some((j, level))
-        })
+            level[a] = *b + crate::math::div_round(sum, 3 * n as i64);
+        }
+        significant.then_some(level)
     }
 
     /// A tilt's new zero was just taken: the lift test waits for its window, and a motion
     /// soon after is wary.
-    fn tilted(&mut self, s: &DriftSettings) {
+    pub(crate) fn tilted(&mut self, s: &DriftSettings) {
         self.lift_wait(s);
         self.tilted_until = self.stream.ticks() + u64::from(s.land_timeout);
     }
@@ -413,7 +479,17 @@ impl Detector {
         if shadow_quiet && quiet && !certain {
             return Some(Action::None);
         }
-        if shadow_quiet && self.velocity_explained(s, w, n, nb) {
+        let signs = self.tilt.shadow_signs;
+        let both = signs & 0b11 == 0b11 || signs & 0b1100 == 0b1100;
+        let may_win = !self.tilt.shadow_two_sided || both;
+        if !may_win && self.stream.block_closed() {
+            let sided = self.one_sided_blocks(s);
+            if let Some(scale) = (0..2).rev().find(|&c| sided[c] > s.tilt_blocks[1]) {
+                self.tilt.shadow = None;
+                return Some(self.confirm(s, bias, scale));
+            }
+        }
+        if may_win && shadow_quiet && self.velocity_explained(s, w, n, nb) {
             let turned = self.tilt.shadow_turned;
             self.enter_still();
             self.tilted(s);
@@ -439,19 +515,7 @@ impl Detector {
         if certain {
             // A tilt for certain whose shadow never came to rest: the pad went on tilting.
             // The zeros become the last sub-window's means; Still.
-            let m = s.sub_blocks[0];
-            let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
-            let level: [i64; 3] = core::array::from_fn(|a| {
-                let o = offset_q16(self.stream.blocks_sum(a, 1, m + 1), n, bias[a]);
-                bias[a] + crate::math::div_round(o, n as i64)
-            });
-            self.enter_still();
-            self.tilted(s);
-            self.bias_samples = n;
-            return Some(Action::Rebias {
-                bias: level,
-                discard: true,
-            });
+            return Some(self.rezero_on_last(s, bias, 0));
         }
         let sided = self.one_sided_blocks(s);
         if sided.iter().any(|&b| b >= s.tilt_blocks[0]) {
