@@ -823,6 +823,16 @@ pub fn averaging_s(drift: Option<Drift>) -> f64 {
     drift.and_then(|d| d.bias_tau_s).unwrap_or(1.0)
 }
 
+/// What a reported row asks for: a measurement shown beside the targets, not one of them.
+pub const REPORTED: &str = "reported";
+
+/// `f` as a reported row (see [`REPORTED`]): it passes whatever it measured.
+fn reported(mut f: Family) -> Family {
+    f.pass = true;
+    f.asks = REPORTED.into();
+    f
+}
+
 /// Every family with `drift` (and the device's default configuration otherwise).
 pub fn all(drift: Option<Drift>, z: Sizes, seed: u64) -> Vec<Family> {
     let base = Config {
@@ -849,21 +859,20 @@ pub fn all(drift: Option<Drift>, z: Sizes, seed: u64) -> Vec<Family> {
         z.rest.1,
         seed ^ 11,
     ));
+    // A sweep row: the strokes family on its own calibrated device.
+    let sweep = |spec: SensorSpec, device_seed: u64, trial_seed: u64, name: String| {
+        let dev = Device::calibrated(spec, base, device_seed);
+        let mut f = family(Kind::Strokes, &dev, z.sweep_trials, trial_seed, avg_s);
+        f.name = name;
+        f
+    };
     for &fs in &RATES {
         let spec = SensorSpec {
             fs: f64::from(fs),
             ..SensorSpec::ADXL335
         };
-        let dev = Device::calibrated(spec, base, seed ^ u64::from(fs));
-        let mut f = family(
-            Kind::Strokes,
-            &dev,
-            z.sweep_trials,
-            seed ^ u64::from(fs),
-            avg_s,
-        );
-        f.name = format!("strokes at {fs} Hz");
-        out.push(f);
+        let s = seed ^ u64::from(fs);
+        out.push(sweep(spec, s, s, format!("strokes at {fs} Hz")));
     }
     // The same 100 Hz trials with the ADXL335's pole at 25 Hz (a 0.2 uF bandwidth capacitor
     // for its 0.1 uF): the noise power that aliases below Nyquist falls from 71 % to 20 % of
@@ -874,27 +883,19 @@ pub fn all(drift: Option<Drift>, z: Sizes, seed: u64) -> Vec<Family> {
         pole_hz: Some(25.0),
         ..SensorSpec::ADXL335
     };
-    let dev = Device::calibrated(spec, base, seed ^ 100);
-    let mut f = family(Kind::Strokes, &dev, z.sweep_trials, seed ^ 100, avg_s);
-    f.name = "strokes at 100 Hz, pole at 25 Hz".into();
-    f.pass = true;
-    f.asks = "reported".into();
-    out.push(f);
+    let name = "strokes at 100 Hz, pole at 25 Hz".to_string();
+    out.push(reported(sweep(spec, seed ^ 100, seed ^ 100, name)));
     for &(nd_ug, bits) in &SENSORS {
         let spec = SensorSpec {
             nd_ug,
             bits,
             ..SensorSpec::ADXL335
         };
-        let dev = Device::calibrated(spec, base, seed ^ (nd_ug as u64) ^ u64::from(bits));
-        let mut f = family(Kind::Strokes, &dev, z.sweep_trials, seed ^ 13, avg_s);
-        f.name = format!("strokes, {nd_ug:.0} ug/sqrt(Hz), {bits} bits");
+        let device_seed = seed ^ (nd_ug as u64) ^ u64::from(bits);
+        let name = format!("strokes, {nd_ug:.0} ug/sqrt(Hz), {bits} bits");
+        let f = sweep(spec, device_seed, seed ^ 13, name);
         // Target 1 holds for 12 to 16 bits; 10 bits are reported beside them.
-        if bits < 12 {
-            f.pass = true;
-            f.asks = "reported".into();
-        }
-        out.push(f);
+        out.push(if bits < 12 { reported(f) } else { f });
     }
     out
 }
@@ -984,36 +985,24 @@ pub fn trace(
         ..Config::default()
     };
     let b = SensorSpec::ADXL335;
-    let row = if spec == b {
-        format!("the {} family's trial {k}", kind.name())
+    // The device and the trial's seed as the run that holds trial K draws them (`all`).
+    let (dev, trial_seed, row) = if spec == b {
+        let row = format!("the {} family's trial {k}", kind.name());
+        (board_device(drift, seed), seed, row)
     } else if spec.nd_ug == b.nd_ug && spec.bits == b.bits {
-        format!("trial {k} as the rate sweep draws it")
+        let s = seed ^ u64::from(spec.fs as u32);
+        let row = format!("trial {k} as the rate sweep draws it");
+        (Device::calibrated(spec, base, s), s, row)
     } else {
-        format!("trial {k} as the sensor sweep draws it")
+        let s = seed ^ (spec.nd_ug as u64) ^ u64::from(spec.bits);
+        let row = format!("trial {k} as the sensor sweep draws it");
+        (Device::calibrated(spec, base, s), seed ^ 13, row)
     };
     let who = format!(
         "device: {} ug/sqrt(Hz), {} bits, {} Hz; {row}, seed {seed}\n",
         spec.nd_ug, spec.bits, spec.fs
     );
-    let (dev, seed) = if spec == b {
-        (board_device(drift, seed), seed)
-    } else if spec.nd_ug == b.nd_ug && spec.bits == b.bits {
-        let fs = spec.fs as u32;
-        (
-            Device::calibrated(spec, base, seed ^ u64::from(fs)),
-            seed ^ u64::from(fs),
-        )
-    } else {
-        (
-            Device::calibrated(
-                spec,
-                base,
-                seed ^ (spec.nd_ug as u64) ^ u64::from(spec.bits),
-            ),
-            seed ^ 13,
-        )
-    };
-    let mut rng = kind.rng(seed, k);
+    let mut rng = kind.rng(trial_seed, k);
     let case = kind.case(&mut rng, averaging_s(drift));
     let mut out = describe(&case);
     out += &who;
@@ -1097,7 +1086,7 @@ pub fn table(fams: &[Family]) -> String {
             f.error_mm.median,
             f.error_mm.p90,
             f.floor_mm.median,
-            if f.asks == "reported" {
+            if f.asks == REPORTED {
                 "rep."
             } else if f.pass {
                 "yes"
