@@ -225,6 +225,51 @@ fn a_slow_tilt_that_changes_while_held_is_confirmed_from_its_last_level() {
 }
 
 #[test]
+fn a_stroke_while_the_pad_still_tilts_is_never_delivered_larger_than_itself() {
+    // A new user's case: the pad tilts 1 degree over 1.5 s and a 150 mm stroke over 1 s
+    // begins 0.7 s into the tilt, along it. The level a change's shadow took was the tilt's
+    // ramp, not a settled pad's: that shadow never came to rest, and adopting it at its
+    // timeout delivered the stroke with the rest of the tilt, 364 mm, 1.1 s after the hand
+    // stopped. Now such a shadow is dropped at its timeout and the held motion goes on as it
+    // was: the stroke may be lost, but the cursor is never further off than the stroke's
+    // length beyond where it stood when the stroke began (the tilt's runaway before its
+    // hold).
+    let phi: f64 = 0.7;
+    let to = [phi.cos(), phi.sin()].map(|c| c * 1f64.to_radians());
+    let stroke = (1.1, 0.15);
+    let sc = Scenario {
+        motions: vec![
+            Motion::Tilt {
+                t0: 0.4,
+                dur: 1.5,
+                from: [0.0; 2],
+                to,
+            },
+            Motion::Stroke {
+                t0: stroke.0,
+                dur: 1.0,
+                d: stroke.1,
+                dir: phi,
+            },
+        ],
+        edges: vec![],
+        seconds: stroke.0 + 3.0,
+    };
+    for dev in [1, 2] {
+        let d = families::board_device(Some(Drift::default()), dev);
+        let p = families::run(&d, &sc, 11);
+        let start = p.at(stroke.0);
+        let end = p.at(sc.seconds);
+        let want = [
+            start[0] + stroke.1 * phi.cos(),
+            start[1] + stroke.1 * phi.sin(),
+        ];
+        let off = (end[0] - want[0]).hypot(end[1] - want[1]);
+        assert!(off <= stroke.1, "device {dev}: {:.1} mm off", off * 1e3);
+    }
+}
+
+#[test]
 fn knocks_that_flex_the_desk_move_nothing() {
     // Target 4: each knock flexes the desk by 20-200 um, up to a third of it horizontal: up
     // to 2 counts out and back. The median knock moves the cursor by at most 0.3 mm.

@@ -63,7 +63,11 @@
 //!   makes both signs the shadow can still win wrongly (seed 2's trial 68 of the 14- and
 //!   16-bit sweeps, 73 mm). If the tilt is confirmed before such a shadow has gone both
 //!   ways, the change was more of the tilt: the shadow ends and the confirmation goes on as
-//!   without it (the latest steady level).
+//!   without it (the latest steady level). If it times out unconfirmed, its level was not a
+//!   settled pad's (a slow tilt's ramp reads as steady over 0.3 s): it is dropped, not
+//!   adopted, and the held motion goes on as it was (adopted, a stroke made while the pad
+//!   still tilted arrived with the rest of the tilt, 2.4 times its length). A stroke a shadow
+//!   carries arrives at once when the shadow wins, after the hand stopped.
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
 //!   stroke is that long. The held motion is dropped and the zeros become the level of the
 //!   latest steady stretch (three short sub-windows in a row that agree on every axis within
@@ -516,6 +520,11 @@ impl Detector {
             // A tilt for certain whose shadow never came to rest: the pad went on tilting.
             // The zeros become the last sub-window's means; Still.
             return Some(self.rezero_on_last(s, bias, 0));
+        }
+        if self.tilt.shadow_two_sided {
+            // A change's shadow that never came to rest: its level was not a settled pad's
+            // (a tilt still under way); the held motion goes on as it was.
+            return None;
         }
         let sided = self.one_sided_blocks(s);
         if sided.iter().any(|&b| b >= s.tilt_blocks[0]) {
