@@ -186,6 +186,12 @@ impl Axis {
         self.integrator = state;
     }
 
+    /// Moves the position not yet read out by `dz` (`Z = 4 S` units, see
+    /// [`IntegratorState::correct`]).
+    pub fn correct(&mut self, dz: i128) {
+        self.integrator.correct(dz);
+    }
+
     /// Sets the velocity (`W = 2 V`, Q16 counts times samples) at the start of a motion
     /// that carries one on; position, bias and filter are kept.
     pub fn set_velocity(&mut self, w: i64) {

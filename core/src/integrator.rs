@@ -78,6 +78,12 @@ impl IntegratorState {
         self.primed = false;
     }
 
+    /// Moves the position not yet drained by `dz` (`Z = 4 S` units): a motion's end
+    /// correcting what it delivered (see `drift::estimator`'s bridge). Saturating.
+    pub fn correct(&mut self, dz: i128) {
+        self.z = self.z.saturating_add(dz);
+    }
+
     /// Sets the velocity to `w` (`W = 2 V`) at the start of a motion that carries one on
     /// (the trapezoid waits for a new first sample); the position is kept.
     pub fn set_velocity(&mut self, w: i64) {

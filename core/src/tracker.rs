@@ -298,7 +298,12 @@ impl Tracker {
             (velocity, shadow)
         };
         let action = det.push(ds, codes, y, bias, velocities);
-        if det.state() == State::Lifted && matches!(action, Action::Stop | Action::Discard) {
+        if det.state() == State::Lifted
+            && matches!(
+                action,
+                Action::Stop | Action::Settle { .. } | Action::Discard
+            )
+        {
             counters.lifts += 1;
         }
         if action != Action::None {
@@ -348,13 +353,18 @@ impl Tracker {
             }
             Action::Start { blocks, carry } => {
                 self.counters.motions += 1;
-                for (axis, w) in self.axes.iter_mut().zip(carry) {
+                for (axis, w) in self.axes.iter_mut().zip([carry[0], carry[1], 0]) {
                     axis.set_velocity(w);
                 }
                 self.replay(blocks);
             }
-
             Action::Stop => self.axes.iter_mut().for_each(Axis::zero_velocity),
+            Action::Settle { dz } => {
+                for (axis, dz) in self.axes.iter_mut().zip(dz) {
+                    axis.correct(dz);
+                }
+                self.axes.iter_mut().for_each(Axis::zero_velocity);
+            }
             Action::Discard => {
                 self.counters.discarded += 1;
                 self.axes.iter_mut().for_each(Axis::stop);

@@ -326,23 +326,27 @@ fn hard_knocks_move_the_cursor_out_and_back() {
 }
 
 #[test]
-fn strokes_with_knocks_arrive_and_without_the_disturbance_allowance_they_are_lost() {
+fn strokes_with_knocks_arrive_and_with_the_ring_in_the_hand_band_they_are_lost() {
     let n = 60;
     let f = run(Kind::KnockyStrokes, Drift::default(), n, 9);
     assert!(f.within >= least_within(0.9, n), "{:.3} within", f.within);
-    // Control: blind to the disturbance (its margin so wide that nothing exceeds it): a
-    // knock's ring is taken for a lift or a start.
+    // Control: the lowest frequency of what is not a hand at 60 Hz, so that a knock's ring
+    // (20-60 Hz) passes the hand-band filter and the disturbance is measured above it: the
+    // ring is taken for a hand (0.517 within, measured). Blind to the disturbance instead
+    // (its margin 20 sd), the strokes arrive as well as they do with it (0.965 and 0.975 of
+    // 200): since the stop's bridge (estimator.rs) they no longer need the allowance; what
+    // it still keeps is a vibrating desk's rest (the control below).
     let c = run(
         Kind::KnockyStrokes,
-        tuned(Tuning {
-            disturbance_sigmas: 20.0,
-            ..Tuning::default()
-        }),
+        Drift {
+            knock_hz: 60.0,
+            ..Drift::default()
+        },
         n,
         9,
     );
     assert!(
-        c.within < f.within,
+        c.within < least_within(0.9, n),
         "control {:.3} against {:.3}",
         c.within,
         f.within

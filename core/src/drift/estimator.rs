@@ -47,6 +47,28 @@
 //! time): a motion starting within it resumes the one that stopped. The next stroke of a hand
 //! comes later than that (a rest of 0.3 s or more), and a click forgets it.
 //!
+//! # The end's bridge
+//! A motion that decelerated to rest ends with a velocity `V` that is error: the noise's
+//! random walk and the zero's error, both from zero at the onset. Given that end value, the
+//! error's expected path is the straight line from zero to `V` (for the zero's error
+//! exactly, for the random walk a Brownian bridge's mean), so the position is expected
+//! `V n / 2` off after `n` samples, and the stop moves it back by that (`Z -= W n`,
+//! [`Action::Settle`]). Knowing the end removes three quarters of the random walk's
+//! position variance (`n^3 / 3` to `n^3 / 12` in units of the per-sample variance): the
+//! position's sd halves. There is no constant in it.
+//!
+//! The premise fails when the stop comes while the hand still moves (a slow deceleration
+//! within the velocity's uncertainty: a noisy sensor, a long stroke). The velocity left then
+//! points along the motion, and the correction would move the cursor back by the hand's own
+//! velocity times half the motion. So a correction that points back against the motion's
+//! travel (its velocity summed at each 20 ms block's end) is not made: the cursor only ever
+//! moves on towards where the hand went, never back (a drag may not retreat). A motion that
+//! resumes the one that stopped (its hand was still moving) keeps the correction: taking it
+//! back would be a step back; its own stop corrects the whole span less what was corrected
+//! already, again only forwards. A faded glide (its hand may still move) stops without one,
+//! and on a disturbed desk the velocity the disturbance can swing (the velocity test's
+//! allowance) is not taken for error.
+//!
 //! # Error rates
 //! `K^2 = 11.8` (2 degrees of freedom, 0.27 %): a window at rest passes the quiet test with
 //! probability 0.997 (a false "not quiet" only delays a stop by a tick); the end of a stroke
@@ -66,6 +88,12 @@ pub struct Motion {
     quiet_run: u32,
     /// Started on a disturbed desk and not yet out of the disturbance's velocity.
     pub(crate) unproven: bool,
+    /// The horizontal velocities (`W`) summed at each block's end since the onset, of the
+    /// motion this one resumes too: the direction of its travel, for the bridge.
+    travel: [i64; 2],
+    /// The bridge's corrections made so far to this motion (at the stops of the motions it
+    /// resumes) [`Z = 4 S` units].
+    corrected: [i128; 2],
 }
 
 /// A faded glide's velocity, waiting for the next motion.
@@ -82,11 +110,43 @@ pub struct Latent {
 }
 
 impl Motion {
-    /// A motion whose onset was `samples` samples ago.
-    pub(crate) fn begin(&mut self, samples: u64) {
+    /// A motion whose onset was `samples` samples ago; one that `resumes` the last keeps its
+    /// travel and its corrections.
+    pub(crate) fn begin(&mut self, samples: u64, resumes: bool) {
         self.samples = samples;
         self.quiet_run = 0;
         self.unproven = false;
+        if !resumes {
+            self.travel = [0; 2];
+            self.corrected = [0; 2];
+        }
+    }
+
+    /// The bridge's correction at this motion's stop with the velocity error `e` (`W`, see
+    /// [`velocity_error`]): `-e n` over its `n` samples (`Z` units: `S -= V n / 2`), less the
+    /// corrections already made to it, or none if that would move the cursor back against
+    /// its travel (see the module docs). Counted as made.
+    fn bridge(&mut self, e: [i64; 2]) -> [i128; 2] {
+        let n = i128::from(self.samples);
+        let dz = [0, 1].map(|a| {
+            (-i128::from(e[a]))
+                .saturating_mul(n)
+                .saturating_sub(self.corrected[a])
+        });
+        if !forward(dz, self.travel) {
+            return [0; 2];
+        }
+        for (c, dz) in self.corrected.iter_mut().zip(dz) {
+            *c = c.saturating_add(dz);
+        }
+        dz
+    }
+
+    /// A block ended with the velocities `w` (`W`): its share of the travel.
+    fn travelled(&mut self, w: [i64; 2]) {
+        for (t, w) in self.travel.iter_mut().zip(w) {
+            *t = t.saturating_add(w);
+        }
     }
 
     /// One more sample integrated.
@@ -95,6 +155,28 @@ impl Motion {
         self.samples += 1;
         click.motion_sample();
     }
+}
+
+/// The velocity error left at the stop of a motion that came to rest with the horizontal
+/// velocities `w` (`W = 2 V`, Q16 counts times samples), of which the desk's disturbance may
+/// account for `allow` (`V` units): `W` less twice its allowance per axis, toward zero.
+pub(crate) fn velocity_error(w: [i64; 2], allow: [u64; 2]) -> [i64; 2] {
+    [0, 1].map(|a| {
+        let left = w[a]
+            .unsigned_abs()
+            .saturating_sub(allow[a].saturating_mul(2));
+        // At most i64::MAX (a saturated W of i64::MIN leaves 2^63).
+        w[a].signum() * left.min(i64::MAX as u64) as i64
+    })
+}
+
+/// Whether a correction `c` (any scale) does not point back against the travel `d`
+/// (`c . d >= 0`); `c` is scaled below 2^63 first, so that the products fit 128 bits.
+pub(crate) fn forward(c: [i128; 2], d: [i64; 2]) -> bool {
+    let m = c[0].unsigned_abs().max(c[1].unsigned_abs());
+    let shift = (128 - m.leading_zeros()).saturating_sub(62);
+    let dot: i128 = (0..2).map(|a| (c[a] >> shift) * i128::from(d[a])).sum();
+    dot >= 0
 }
 
 /// Whether two offsets `d` (Q16 sums) with variances `var` (squared units) and allowances
@@ -157,25 +239,31 @@ impl Detector {
         n: u64,
         nb: u64,
     ) -> bool {
-        let allow = |a: usize| {
-            let d = &self.disturbance[a];
-            d.allow(d.gains(s).velocity_q16, 1)
-        };
         explained_2d(
             s.chi2_q8,
             [velocity[0] / 2, velocity[1] / 2],
             [0, 1].map(|a| self.noise[a].var(n, nb)),
-            [allow(0), allow(1)],
+            self.velocity_allowance(s),
         )
     }
 
-    /// The velocity a motion starting now carries: a faded glide's, if one is waiting, and
-    /// the samples since that glide's onset (for its uncertainty); it is then used up.
-    pub(crate) fn take_latent(&mut self, s: &DriftSettings) -> Option<([i64; 3], u64)> {
+    /// The velocity amplitude (`V`, Q16 counts times samples) the disturbance measured now
+    /// can give each horizontal axis; 0 on a quiet desk.
+    fn velocity_allowance(&self, s: &DriftSettings) -> [u64; 2] {
+        [0, 1].map(|a| {
+            let d = &self.disturbance[a];
+            d.allow(d.gains(s).velocity_q16, 1)
+        })
+    }
+
+    /// The velocity a motion starting now carries: a faded glide's or a stopped motion's,
+    /// if one is waiting, and the samples since that motion's onset (for its uncertainty);
+    /// it is then used up.
+    pub(crate) fn take_latent(&mut self, s: &DriftSettings) -> Option<([i64; 2], u64)> {
         let l = core::mem::take(&mut self.latent);
         let since = self.stream.ticks() - l.at;
         (l.w != [0; 2] && since <= u64::from(l.life))
-            .then(|| ([l.w[0], l.w[1], 0], l.samples + since * u64::from(s.tick)))
+            .then(|| (l.w, l.samples + since * u64::from(s.tick)))
     }
 
     /// Decisions while moving at a tick's end: the stop, a tilt's shadow, then the tilt
@@ -225,9 +313,21 @@ impl Detector {
                     life: if fade { s.glide_ticks } else { s.fade_ticks },
                 };
             }
-            return if held { Action::Discard } else { Action::Stop };
+            // The velocity left is error if the hand decelerated to rest (not a glide that
+            // faded), but for what the desk's disturbance can swing it by (real velocity).
+            return match (held, fade) {
+                (true, _) => Action::Discard,
+                (false, true) => Action::Stop,
+                (false, false) => Action::Settle {
+                    dz: self.motion.bridge(velocity_error(
+                        [velocity[0], velocity[1]],
+                        self.velocity_allowance(s),
+                    )),
+                },
+            };
         }
         if self.stream.block_closed() {
+            self.motion.travelled([velocity[0], velocity[1]]);
             return self.tilt_block(s, bias);
         }
         Action::None
@@ -253,6 +353,52 @@ mod tests {
         assert!(explained_2d(b, [400, 0], v, [130, 0]));
         assert!(!explained_2d(b, [400, 0], v, [0, 0]));
         assert!(explained_2d(b, [0, -400], v, [0, 130]));
+    }
+
+    #[test]
+    fn the_velocity_error_is_what_the_disturbance_cannot_swing() {
+        assert_eq!(velocity_error([-10, 4], [0; 2]), [-10, 4]);
+        assert_eq!(velocity_error([-10, 4], [2, 5]), [-6, 0]);
+        assert_eq!(velocity_error([-10, 4], [u64::MAX, 1]), [0, 2]);
+        assert_eq!(
+            velocity_error([i64::MIN, i64::MAX], [0; 2]),
+            [-i64::MAX, i64::MAX]
+        );
+    }
+
+    #[test]
+    fn a_correction_is_forward_unless_it_points_back_against_the_travel() {
+        assert!(forward([3000, -1200], [5000, 1]));
+        assert!(!forward([-3000, 0], [5000, 0]));
+        assert!(!forward([-300, 300], [1000, -2000]));
+        assert!(forward([300, -300], [1000, -2000]));
+        // Across the travel, or no travel yet: forward.
+        assert!(forward([0, -70], [5000, 0]));
+        assert!(forward([-50, -50], [0, 0]));
+        // At the extremes the sign is still right (scaled, not overflowed).
+        assert!(!forward([i128::MIN, 0], [i64::MAX, i64::MIN]));
+        assert!(forward([i128::MAX, i128::MAX], [i64::MAX, i64::MAX]));
+        assert!(!forward([-1, 0], [1, 0]));
+        assert!(forward([1, i128::MIN >> 70], [i64::MAX, 0]));
+    }
+
+    #[test]
+    fn a_resumed_motion_is_corrected_for_its_whole_span_less_what_was_corrected() {
+        let mut m = Motion::default();
+        m.begin(100, false);
+        m.travelled([50, 0]);
+        // -(-10) x 100 = 1000 along +X: forward, made.
+        assert_eq!(m.bridge([-10, 0]), [1000, 0]);
+        // Resumed: 200 samples, -6 left: 1200 in all, 200 more.
+        m.begin(200, true);
+        assert_eq!(m.bridge([-6, 0]), [200, 0]);
+        // Resumed again with +2 left: -400 in all, -1600 more would step back: none.
+        m.begin(200, true);
+        assert_eq!(m.bridge([2, 0]), [0, 0]);
+        // A fresh motion starts from no correction and its own travel.
+        m.begin(100, false);
+        m.travelled([-50, 0]);
+        assert_eq!(m.bridge([2, 0]), [-200, 0]);
     }
 
     #[test]

@@ -16,7 +16,7 @@
 //! | [`noise`] | the noise model (calibrated, learnt at rest) and the disturbance (knock, vibration) measured as it happens | calibration, rest |
 //! | [`gains`] | what a disturbance above each frequency can do through each test (computed with the settings) | the tests' windows |
 //! | [`rest`] | the rest statistic: when a motion starts, and where it began | a false-start budget |
-//! | [`estimator`] | when a motion ends: quiet, and its velocity explained by its own uncertainty | error rates |
+//! | [`estimator`] | when a motion ends: quiet, and its velocity explained by its own uncertainty; the velocity left corrects the position (the bridge), never backwards | error rates |
 //! | [`tilt`] | a steady one-sided acceleration is a tilt, not a hand; the zero followed at rest | the longest stroke |
 //! | [`lift`] | the device leaves the desk: vertical displacement, not acceleration | the slowest lift |
 //! | [`click`] | a click's jolt does not drag the cursor | the debounce |
@@ -788,11 +788,20 @@ pub enum Action {
     Start {
         /// Complete blocks to replay, `0..BLOCKS`.
         blocks: usize,
-        /// The velocity the motion starts from (`W = 2 V`, Q16 counts times samples).
-        carry: [i64; 3],
+        /// The horizontal velocity the motion starts from (`W = 2 V`, Q16 counts times
+        /// samples); the vertical starts from zero.
+        carry: [i64; 2],
     },
     /// The motion ended: zero velocity; what was integrated stays.
     Stop,
+    /// The motion ended at rest after its own deceleration: the velocity left (but for what
+    /// the desk's disturbance can swing) is error, and the position moves by `dz` for it
+    /// (`S -= V n / 2` over its `n` samples, less what its stops corrected already, none
+    /// backwards: the zero-velocity update's bridge, [`estimator`]), then zero velocity.
+    Settle {
+        /// The correction per horizontal axis (`Z = 4 S` units).
+        dz: [i128; 2],
+    },
     /// The motion was held and must not be delivered: zero velocity and position.
     Discard,
     /// New zeros (Q16 counts) after a tilt or a landing; zero velocity, and with `discard`

@@ -544,6 +544,14 @@ impl Disturbance {
 mod tests {
     use super::*;
 
+    /// The default drift control's settings at 3 kHz, the ADXL335's LSB.
+    fn settings() -> DriftSettings {
+        let Ok(s) = crate::drift::Drift::default().validate(3000, 0.0235) else {
+            panic!("the default drift control is valid at 3 kHz");
+        };
+        s
+    }
+
     /// The excess by its 128-bit definition ([`Disturbance::update`]): zero or not.
     fn excess_is_zero(p0: u64, p2: u64, e0: u128, margin0: u128, short_q8: u64) -> bool {
         let m = u128::from(short_q8 - 256);
@@ -615,9 +623,7 @@ mod tests {
 
     #[test]
     fn the_start_tests_sd_is_the_learnt_one_times_the_quantizers_bound_before_and_after_learning() {
-        let Ok(s) = crate::drift::Drift::default().validate(3000, 0.0235) else {
-            panic!("the default drift control is valid at 3 kHz");
-        };
+        let s = settings();
         // Codes at a centre with 0.36 LSB of input noise (0.406 LSB rms): r = 1.37.
         let c = cal(0.406, 2048.0);
         let r = quantizer_bound_q16(c.noise_rms_q16, c.bias_q16);
@@ -643,9 +649,7 @@ mod tests {
 
     #[test]
     fn the_calibrated_variance_is_raised_to_its_upper_two_sd_bound() {
-        let Ok(s) = crate::drift::Drift::default().validate(3000, 0.0235) else {
-            panic!("the default drift control is valid at 3 kHz");
-        };
+        let s = settings();
         // 1 s at 3 kHz: k = 3000 / D ticks, q raised by 1 + 2 sqrt(8 / k).
         let c = cal(1.1, 2048.3);
         let k = f64::from(c.samples / s.tick);
@@ -700,9 +704,7 @@ mod tests {
 
     #[test]
     fn a_disturbance_with_another_amplitude_keeps_its_frequency_and_state() {
-        let Ok(s) = crate::drift::Drift::default().validate(3000, 0.0235) else {
-            panic!("the default drift control is valid at 3 kHz");
-        };
+        let s = settings();
         let d = Disturbance {
             amp_q16: 5 << 16,
             bin: 1,
@@ -724,9 +726,7 @@ mod tests {
 
     #[test]
     fn only_the_axes_that_feed_the_start_tests_carry_the_quantizers_bound() {
-        let Ok(s) = crate::drift::Drift::default().validate(3000, 0.0235) else {
-            panic!("the default drift control is valid at 3 kHz");
-        };
+        let s = settings();
         let c = cal(0.406, 2048.0);
         let r = quantizer_bound_q16(c.noise_rms_q16, c.bias_q16);
         assert!(r > 1 << 16);

@@ -281,8 +281,10 @@ impl Detector {
         self.enter(State::Moving);
         let samples = blocks * u64::from(s.block) * u64::from(s.tick)
             + u64::from(self.stream.samples_in_block());
-        self.motion
-            .begin(latent.map_or(samples, |(_, since)| since.max(samples)));
+        self.motion.begin(
+            latent.map_or(samples, |(_, since)| since.max(samples)),
+            latent.is_some(),
+        );
         self.motion.unproven = disturbed;
         // The hold runs from the onset itself, not from the start of its block.
         let t = self.stream.ticks();
@@ -291,7 +293,7 @@ impl Detector {
         self.count_runs(s, blocks, bias);
         Action::Start {
             blocks: blocks as usize,
-            carry: latent.map_or(shaking.map_or([0; 3], |w| [w[0], w[1], 0]), |(w, _)| w),
+            carry: latent.map_or(shaking.map_or([0; 2], |w| [w[0], w[1]]), |(w, _)| w),
         }
     }
 }

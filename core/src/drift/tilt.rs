@@ -146,6 +146,12 @@ impl Tilt {
     }
 }
 
+/// The scale at which one-sided runs of `sided` blocks (at the short and the long scale) are
+/// long enough to confirm a tilt (the longer first), if any.
+fn confirmed(s: &DriftSettings, sided: [u32; 2]) -> Option<usize> {
+    (0..2).rev().find(|&scale| sided[scale] > s.tilt_blocks[1])
+}
+
 impl Detector {
     /// The sub-window of `scale` ending `back` blocks ago (0: the last complete block) on
     /// `axis`: its sign if it is significantly off `bias` (see the module docs), 0 if not.
@@ -222,12 +228,17 @@ impl Detector {
         if let Some((level, ..)) = self.tilt.shadow {
             self.shadow_against(s, level, 0);
         }
-        let sided = self.one_sided_blocks(s);
-        if sided.iter().any(|&b| b > s.tilt_blocks[1]) {
+        if self.confirmed_scale(s).is_some() {
             if let Some(shadow) = &mut self.tilt.shadow {
                 shadow.3 = true;
             }
         }
+    }
+
+    /// The scale at which the one-sided run is long enough to confirm a tilt (the longer
+    /// first), if any.
+    fn confirmed_scale(&self, s: &DriftSettings) -> Option<usize> {
+        confirmed(s, self.one_sided_blocks(s))
     }
 
     /// Whether the short sub-window ending `back` blocks ago went against the tilt's
@@ -274,8 +285,7 @@ impl Detector {
         }
         let hold = s.tilt_blocks[0];
         let sided = self.one_sided_blocks(s);
-        let confirmed = (0..2).rev().find(|&scale| sided[scale] > s.tilt_blocks[1]);
-        if let (Some(scale), None) = (confirmed, self.tilt.shadow) {
+        if let (Some(scale), None) = (confirmed(s, sided), self.tilt.shadow) {
             return self.confirm(s, bias, scale);
         }
         let held = self.tilt.wary || sided.iter().any(|&b| b >= hold);
@@ -487,8 +497,7 @@ impl Detector {
         let both = signs & 0b11 == 0b11 || signs & 0b1100 == 0b1100;
         let may_win = !self.tilt.shadow_two_sided || both;
         if !may_win && self.stream.block_closed() {
-            let sided = self.one_sided_blocks(s);
-            if let Some(scale) = (0..2).rev().find(|&c| sided[c] > s.tilt_blocks[1]) {
+            if let Some(scale) = self.confirmed_scale(s) {
                 self.tilt.shadow = None;
                 return Some(self.confirm(s, bias, scale));
             }
@@ -528,7 +537,7 @@ impl Detector {
         }
         let sided = self.one_sided_blocks(s);
         if sided.iter().any(|&b| b >= s.tilt_blocks[0]) {
-            self.motion.begin(n);
+            self.motion.begin(n, false);
             self.bias_samples = nb;
             self.tilt.held = false;
             return Some(Action::Adopt { stop: false });
