@@ -46,20 +46,38 @@
 //! down on a slope), and stay otherwise. The lift test then waits `W` ticks, until its
 //! window holds only ticks at the new zero.
 //!
+//! # Gravity at rest
+//! The thirds' test compares three means; a fall's accelerations can average alike over
+//! them while the device still moves (the lab's `lifts:50`, seed 1: Z 8 LSB below its zero
+//! in each third, 56 ms before the fall ended; the zero taken there ran the cursor 34 mm).
+//! At rest the sensor measures gravity alone, whatever the orientation: from the old rest
+//! `g u0` to the new `g u1 = g u0 + delta`, `|u1| = 1` gives `u0 . delta = -|delta|^2 / (2 g)`.
+//! With `u0` within `mount_tilt_deg` of the sensor's Z (mounting and slope together, `r` of
+//! the lift test; the hand model's pads slope up to 5 degrees), `|delta_z + |delta|^2 / (2 g)| <= r (|delta_x| + |delta_y|)` (the
+//! `1 - cos` term, under 0.4 % of `delta_z` within 5 degrees, left out). So a level is a
+//! rest only if its Z is within `K_TILT` sd of `-|delta|^2 / (2 g)` (g from the configured
+//! scale) past that allowance and the desk's disturbance; a landing at any other level
+//! waits. A level gravity cannot give that lasts (a pad steeper than `r` allows, a scale
+//! configured far off) is taken once the longest stroke's time has passed since the lift,
+//! as a set-down without a fall is: the cursor is dead for at most that long.
+//!
 //! A hand may move the device before the window is steady (a stroke begun 0.1 to 0.25 s
 //! after the set-down would otherwise stay Lifted until it ends, and be lost). So when, the
 //! fall seen, the window is not steady, but its first two thirds agree on every axis and its
 //! last third agrees with them on Z and not on X or Y (the device rests on the desk, and
-//! moves along it), the device landed: the zeros become the first two thirds' means if they
-//! differ from the old ones by more than their noise allows, and a motion starts from zero
-//! velocity at the last third ([`super::Action::Land`]), wary as after a tilt's new zero (held
-//! until its acceleration reverses: a pad still settling never does, [`super::tilt`]). It
-//! needs two thirds of the window at rest, 0.17 s: a stroke begun sooner after the set-down is
-//! still lost.
+//! moves along it), and gravity gives the first two thirds' level, the device landed: the
+//! zeros become those thirds' means if they differ from the old ones by more than their noise
+//! allows, and a motion starts from zero velocity at the last third
+//! ([`super::Action::Land`]), wary as after a tilt's new zero (held until its acceleration
+//! reverses: a pad still settling never does, [`super::tilt`]). It needs two thirds of the
+//! window at rest, 0.17 s: a stroke begun sooner after the set-down is still lost.
 
 use super::noise::within;
 use super::ticks::offset_q16;
 use super::{Action, Detector, DriftSettings, State, RING};
+
+/// Standard gravity [m/s^2]: what a device at rest measures, whatever its orientation.
+const G_M_S2: f64 = 9.80665;
 
 /// The lift test's coefficients.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -76,12 +94,15 @@ pub struct LiftSettings {
     pub(crate) cube: u64,
     /// `floor(4 n^3 / 3)` [samples^3], the integrated noise's term of the test's variance.
     pub(crate) cube_4_3: u64,
+    /// Twice the standard gravity, `2 g` [Q16 LSB]: the rest's gravity test.
+    pub(crate) two_g_q16: u64,
 }
 
 impl LiftSettings {
     /// The coefficients for a window of `window_s` (the slowest rise times the tuning's
     /// fraction), `knock_hz`, `mount_tilt_deg`, a budget of `hours` between false lifts, at
-    /// ticks of `tick_s`; `None` if the window would not fit the tick ring.
+    /// ticks of `tick_s` and a scale of `m_s2_per_lsb`; `None` if the window would not fit
+    /// the tick ring.
     pub(crate) fn new(
         window_s: f64,
         knock_hz: f64,
@@ -89,6 +110,7 @@ impl LiftSettings {
         hours: f64,
         tick_s: f64,
         tick: u32,
+        m_s2_per_lsb: f64,
     ) -> Option<Self> {
         use crate::math::round_to_u64 as round;
         let window = round(window_s / tick_s).max(2) as u32;
@@ -108,6 +130,7 @@ impl LiftSettings {
             mount_q16: round(mount * 65_536.0),
             cube: n * n * n,
             cube_4_3: 4 * n * n * n / 3,
+            two_g_q16: round(2.0 * G_M_S2 / m_s2_per_lsb * 65_536.0),
         })
     }
 }
@@ -283,6 +306,7 @@ impl Detector {
         let mut level = bias;
         let mut moved = false;
         let mut n_last = 0;
+        let mut last = [(0, 0); 3];
         for (a, b) in bias.iter().enumerate() {
             let t = thirds(self, s, a, m, *b);
             let noise = &self.noise[a];
@@ -294,9 +318,13 @@ impl Detector {
                 };
             }
             let (o, n) = t[2];
+            last[a] = t[2];
             n_last = n;
             moved |= !within(o, noise.var(n, self.bias_samples), s.k2_q8, 0);
             level[a] = *b + crate::math::div_round(o, n as i64);
+        }
+        if !s.lift.is_none_or(|l| self.rests_on_gravity(s, &l, last)) {
+            return Action::None;
         }
         self.enter_still();
         self.lift_wait(s);
@@ -309,6 +337,44 @@ impl Detector {
         } else {
             Action::Stop
         }
+    }
+
+    /// Whether a level `o` (per axis: offset sums from `bias` [Q16 LSB samples] over their
+    /// samples) is one gravity can give a device at rest (see the module docs): `o_z` within
+    /// `K_TILT` sd of `-|o|^2 / (2 g n)`, allowing `r (|o_x| + |o_y|)` for the old rest's
+    /// orientation and the desk's disturbance. After the longest stroke's time since the
+    /// lift, any level is.
+    fn rests_on_gravity(&self, s: &DriftSettings, l: &LiftSettings, o: [(i64, u64); 3]) -> bool {
+        if self.age() >= u64::from(s.land_timeout) {
+            return true;
+        }
+        let n = o[2].1;
+        // |delta|^2 / (2 g) n over the axes' means [Q16 LSB samples], in 64 bits: the means
+        // in Q8 (a 16-bit code's below 2^24, their squares' sum below 2^50), 2 g in Q8.
+        let square = |&(oa, na): &(i64, u64)| {
+            let q8 = crate::math::div_round(oa, na as i64).unsigned_abs() >> 8;
+            q8.saturating_mul(q8)
+        };
+        let sum = o.iter().map(square).fold(0u64, u64::saturating_add);
+        let curvature = crate::math::div_u64(sum, (l.two_g_q16 >> 8).max(1))
+            .saturating_mul(256)
+            .saturating_mul(n);
+        let curvature = i64::try_from(curvature).unwrap_or(i64::MAX);
+        let turn = (o[0].0.unsigned_abs().saturating_add(o[1].0.unsigned_abs()))
+            .saturating_mul(l.mount_q16)
+            >> 16;
+        let desk = self.disturbance[2].with_amplitude(self.lift.desk[2]);
+        let shake = desk.allow(
+            desk.gains(s).land_q16,
+            crate::math::div_u64(n, u64::from(s.tick)),
+        );
+        let allow = turn.saturating_add(shake);
+        within(
+            o[2].0.saturating_add(curvature),
+            self.noise[2].var(n, self.bias_samples),
+            s.k2_q8,
+            allow,
+        )
     }
 
     /// Whether thirds `i` and `j` of `t` on `axis` agree (see the module docs).
@@ -348,23 +414,25 @@ impl Detector {
         let mut n_early = 0;
         let mut changed = false;
         let mut differs = false;
+        let mut level = [(0, 0); 3];
         for (a, b) in bias.iter().enumerate() {
             let t = thirds(self, s, a, m, *b);
             if !self.steady(s, a, t, 0, 1) {
                 return Action::None;
             }
-            let ((o0, n0), (o1, n1)) = (t[0], t[1]);
-            let n = n0 + n1;
-            early[a] = *b + crate::math::div_round(o0 + o1, n as i64);
+            let (o, n) = (t[0].0 + t[1].0, t[0].1 + t[1].1);
+            level[a] = (o, n);
+            early[a] = *b + crate::math::div_round(o, n as i64);
             n_early = n;
-            differs |= !within(o0 + o1, self.noise[a].var(n, self.bias_samples), s.k2_q8, 0);
+            differs |= !within(o, self.noise[a].var(n, self.bias_samples), s.k2_q8, 0);
             let moved = !self.steady(s, a, t, 1, 2);
             if moved && a == 2 {
                 return Action::None;
             }
             changed |= moved;
         }
-        if !changed {
+        let rests = s.lift.is_none_or(|l| self.rests_on_gravity(s, &l, level));
+        if !changed || !rests {
             return Action::None;
         }
         self.enter_still();

@@ -18,7 +18,7 @@
 //! | [`rest`] | the rest statistic: when a motion starts, and where it began | a false-start budget |
 //! | [`estimator`] | when a motion ends: quiet, and its velocity explained by its own uncertainty; the velocity left corrects the position (the bridge), never backwards | error rates |
 //! | [`tilt`] | a steady one-sided acceleration is a tilt, not a hand; the zero followed at rest | the longest stroke |
-//! | [`lift`] | the device leaves the desk: vertical displacement, not acceleration | the slowest lift |
+//! | [`lift`] | the device leaves the desk: vertical displacement, not acceleration; it lands at a level gravity gives at rest | the slowest lift |
 //! | [`click`] | a click's jolt does not drag the cursor | the debounce |
 //!
 //! # States
@@ -473,14 +473,14 @@ pub struct DriftSettings {
 
 impl Drift {
     /// Validates for sampling rate `fs_hz` and a scale of `m_s2_per_lsb` (both already
-    /// validated by [`crate::Config::validate`]).
+    /// validated by [`crate::Config::validate`]). Every threshold is in sd of the measured
+    /// noise; the scale gives only gravity in LSB, for the landing's rest ([`lift`]).
     ///
     /// # Errors
     /// The first invalid field.
     pub fn validate(&self, fs_hz: u32, m_s2_per_lsb: f64) -> Result<DriftSettings, DriftError> {
         use crate::math::round_to_u64 as round;
         use range::*;
-        let _ = m_s2_per_lsb; // every threshold is in sd of the measured noise
         let within = |v: f64, lo: f64, hi: f64| v.is_finite() && v >= lo && v <= hi;
         let t = &self.tuning;
         t.validate()?;
@@ -540,6 +540,7 @@ impl Drift {
                     self.false_start_hours,
                     tick_s,
                     tick,
+                    m_s2_per_lsb,
                 )
                 .ok_or(DriftError::Lift)?,
             ),
