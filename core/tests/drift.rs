@@ -389,6 +389,51 @@ fn a_hand_that_moves_a_falling_device_does_not_land_it() {
 }
 
 #[test]
+fn a_device_held_still_in_the_air_lands_only_after_a_fall_or_the_longest_stroke() {
+    // Lifted 2 cm in 0.3 s (Z: +54, -54 LSB) and held still in the air for `hover` samples,
+    // then set down in 0.3 s (-54, +54). Held still, the device reads what it read on the
+    // desk: only the fall tells the two apart, so it stays lifted through a 1 s hover and
+    // lands 0.26 s after the fall (the landing window). Held 3 s, it lands at the longest
+    // stroke's time since the lift (2 s: a set-down too gentle to be seen), and the fall
+    // that follows is a new lift. Controls: landing without the fall lands in the hover;
+    // the fall's velocity integrated with the wrong sign, or tested against the rise's
+    // direction, never sees it.
+    let scene = |hover: usize| {
+        move |i: usize, n: &mut Noise| {
+            let fall = 3900 + hover;
+            let z = match i {
+                3000..=3449 => 2102,
+                3450..=3899 => 1994,
+                _ if (fall..fall + 450).contains(&i) => 1994,
+                _ if (fall + 450..fall + 900).contains(&i) => 2102,
+                _ => 2048,
+            };
+            [n.code(2048), n.code(2048), n.code(z)]
+        }
+    };
+    let lifted = |t: &Tracker| t.drift_state() == Some(DriftState::Lifted);
+    let mut t = tracker(Some(Drift::default()));
+    let mut n = Noise(Trace::new(29));
+    let f = scene(3000);
+    run(&mut t, 6900, |i| f(i, &mut n));
+    assert!(lifted(&t), "{:?}", t.drift_state());
+    // The fall ends at 7800; the window is steady 0.26 s later.
+    run(&mut t, 1800, |i| f(i + 6900, &mut n));
+    assert!(t.is_still(), "{:?}", t.drift_state());
+    assert_eq!((t.counters().lifts, t.counters().rebiases), (1, 0));
+    let mut t = tracker(Some(Drift::default()));
+    let f = scene(9000);
+    // The lift is seen about 0.1 s after it began (3000): 2 s later is about 9300.
+    run(&mut t, 9000, |i| f(i, &mut n));
+    assert!(lifted(&t), "{:?}", t.drift_state());
+    run(&mut t, 1500, |i| f(i + 9000, &mut n));
+    assert!(t.is_still(), "{:?}", t.drift_state());
+    // The fall, 3 s after the lift's end (12 900 to 13 800).
+    run(&mut t, 3900, |i| f(i + 10_500, &mut n));
+    assert_eq!(t.counters().lifts, 2);
+}
+
+#[test]
 fn a_set_down_on_a_steep_slope_lands_at_once() {
     // Lifted 2 cm in 0.3 s (Z: +54, -54 LSB), 0.2 s in the air, set down in 0.3 s onto a
     // 15 degree slope about Y: X reads g sin 15 = +106 LSB and Z g (cos 15 - 1) = -14 LSB
