@@ -239,6 +239,35 @@ fn a_faded_glide_carries_its_velocity_into_the_ramp_down() {
     }
 }
 
+#[test]
+fn a_glide_fades_through_small_jolts_that_are_no_deceleration() {
+    // The glide of `a_faded_glide_carries_its_velocity_into_the_ramp_down`, noiseless after
+    // the calibration, with a small jolt on Y every 0.2 s (2 LSB for 5 ms, the sign
+    // alternating: a hand's tremor, a desk's tick). Each fails the quiet test of its 20 ms
+    // window (chi-square about 15 against 11.83: the velocity cannot stop there), none the
+    // bound over the fade's span (16.9, the same tail for its 12.5 windows), so the glide
+    // still fades and its velocity waits for the ramp down. Control: with a jolt taken for a
+    // deceleration (the one-window bound) the glide never fades, its velocity is dropped at
+    // the stop, and the ramp down runs the cursor back 12 mm.
+    let scene = |i: usize| {
+        let x = match i {
+            3000..=3599 => 2049,
+            12_600..=13_199 => 2047,
+            _ => 2048,
+        };
+        let y = match i.checked_sub(3600).map(|k| (k / 600, k % 600)) {
+            Some((j, 0..=14)) if j % 2 == 0 => 2050,
+            Some((_, 0..=14)) => 2046,
+            _ => 2048,
+        };
+        [x, y, 2048]
+    };
+    let mut t = tracker(Some(Drift::default()));
+    let retreat = max_retreat(&mut t, 20_000, scene);
+    // At most 2 mm (63 counts) back.
+    assert!(retreat <= 63, "retreat {retreat}");
+}
+
 /// The largest retreat of the cursor's X below its running maximum over `n` samples.
 fn max_retreat(t: &mut Tracker, n: usize, mut f: impl FnMut(usize) -> [u16; 3]) -> i64 {
     let (mut pos, mut best, mut retreat) = (0i64, 0i64, 0i64);

@@ -127,7 +127,8 @@ def derive(d, fs):
         put("gain_displacement", 4 * disp, b)
 
     put("pre_blocks", max(math.ceil(1 / d["knock_hz"] / block_s), 2))
-    put("fade_ticks", max(rnd(d["stroke_max_s"] * t["fade_fraction"] / tick_s), 1))
+    fade = max(rnd(d["stroke_max_s"] * t["fade_fraction"] / tick_s), 1)
+    put("fade_ticks", fade)
     put("glide_ticks", rnd(d["glide_max_s"] / tick_s))
     shift = min(max(rnd(math.log2(t["disturbance_s"] / tick_s)), 3), 10)
     margin = lambda k: 1 + t["disturbance_sigmas"] * math.sqrt(2 / 2 ** k)
@@ -147,6 +148,9 @@ def derive(d, fs):
     put("inflation", t["q_inflation_sd"])
     put("hold", rnd(d["hold_s"] * fs))
     put("quiet_ticks", quiet)
+    # The quiet test's bound over the fade's span: the 2-dof tail exp(-c / 2) of one window,
+    # shared by its fade / quiet windows.
+    put("fade_chi2", t["chi2"] + 2 * math.log(max(fade / quiet, 1)))
     put("tilt_blocks", hold_blocks, 0)
     put("tilt_blocks", confirm, 1)
     # The lift test: a window of 0.605 of the slowest rise, one false lift per budget.
@@ -161,6 +165,8 @@ def derive(d, fs):
     put("lift_mount", math.sin(math.radians(d["mount_tilt_deg"])))
     put("lift_cube", n ** 3)
     put("lift_cube_4_3", 4 * n ** 3 // 3)
+    # Gravity at rest in LSB, twice, for the configuration's scale (10 g over 12 bits).
+    put("lift_two_g", 2 * 4096 / 10)
     put("bias_samples_max", max(rnd(d["bias_tau_s"] * fs), 1))
     put("freeze", rnd(d["click_freeze_s"] * fs))
     put("arl_ticks", rnd(d["false_start_hours"] * 3600 / tick_s))

@@ -432,8 +432,12 @@ pub struct DriftSettings {
     pub(crate) gains: [noise::Gains; noise::BINS],
     /// Blocks before a disturbed motion's onset whose mean velocity is zero (its start).
     pub(crate) pre_blocks: u32,
-    /// A glide fades after this many quiet ticks; its velocity waits this many [ticks].
+    /// A glide fades after this many calm ticks; its velocity waits this many [ticks].
     pub(crate) fade_ticks: u32,
+    /// The quiet test's chi-square bound over the fade's span (Q8): `chi2 + 2 ln m` for its
+    /// `m = fade_ticks / quiet_ticks` windows, the same tail for the span as `chi2` for one
+    /// window ([`estimator`]).
+    pub(crate) fade_chi2_q8: u128,
     pub(crate) glide_ticks: u32,
     /// The disturbance's average: `2^dist_shift` ticks; its margin over the noise (Q8).
     pub(crate) dist_shift: u32,
@@ -572,6 +576,7 @@ impl Drift {
         // through each test (noise.rs).
         let sample_box = |f: f64| boxcar(tick, f / fs);
         let quiet_ticks = round(t.quiet_s / tick_s).max(1) as u32;
+        let fade_ticks = round(self.stroke_max_s * t.fade_fraction / tick_s).max(1) as u32;
         // (With one sample a tick, 0.8 of the tick rate is past Nyquist; the gains there
         // only fall with frequency, so the range's top does not bind.)
         let top = (0.8 * f_tick).max(self.knock_hz);
@@ -643,7 +648,12 @@ impl Drift {
             dist_margin_q8: round(dist_margin * 256.0),
             dist_margin_short_q8: round(dist_margin_short * 256.0),
             burst_k2_q8: round(t.disturbance_sigmas * t.disturbance_sigmas * 256.0),
-            fade_ticks: round(self.stroke_max_s * t.fade_fraction / tick_s).max(1) as u32,
+            fade_ticks,
+            fade_chi2_q8: u128::from(round(
+                (t.chi2
+                    + 2.0 * libm::log((f64::from(fade_ticks) / f64::from(quiet_ticks)).max(1.0)))
+                    * 256.0,
+            )),
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
             band_delay: (l1 + l2 - 2) / 2,
@@ -723,6 +733,7 @@ impl DriftSettings {
         f("inflation", 0, q8(self.inflation_q8));
         f("hold", 0, self.hold as f64);
         f("quiet_ticks", 0, n(self.quiet_ticks));
+        f("fade_chi2", 0, self.fade_chi2_q8 as f64 / 256.0);
         for (i, &b) in self.tilt_blocks.iter().enumerate() {
             f("tilt_blocks", i, n(b));
         }
@@ -732,6 +743,7 @@ impl DriftSettings {
             f("lift_k2", 0, q8(l.k2_q8));
             f("lift_mount", 0, q16(l.mount_q16));
             f("lift_cube", 0, l.cube as f64);
+            f("lift_two_g", 0, q16(l.two_g_q16));
             f("lift_cube_4_3", 0, l.cube_4_3 as f64);
         }
         if let Some(b) = self.bias_samples_max {
