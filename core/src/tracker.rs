@@ -351,13 +351,7 @@ impl Tracker {
                 }
                 self.shadow = None;
             }
-            Action::Start { blocks, carry } => {
-                self.counters.motions += 1;
-                for (axis, w) in self.axes.iter_mut().zip([carry[0], carry[1], 0]) {
-                    axis.set_velocity(w);
-                }
-                self.replay(blocks);
-            }
+            Action::Start { blocks, carry } => self.start(blocks, carry),
             Action::Stop => self.axes.iter_mut().for_each(Axis::zero_velocity),
             Action::Settle { dz } => {
                 for (axis, dz) in self.axes.iter_mut().zip(dz) {
@@ -381,15 +375,13 @@ impl Tracker {
                 }
             }
             Action::Land { bias, blocks } => {
-                self.counters.motions += 1;
                 if self.axes.iter().zip(bias).any(|(a, b)| a.bias_q16() != b) {
                     self.counters.rebiases += 1;
                 }
                 for (axis, b) in self.axes.iter_mut().zip(bias) {
                     axis.track_bias_q16(b);
-                    axis.zero_velocity();
                 }
-                self.replay(blocks);
+                self.start(blocks, [0; 2]);
             }
             Action::TrackBias(b) => {
                 for (axis, b) in self.axes.iter_mut().zip(b) {
@@ -397,6 +389,16 @@ impl Tracker {
                 }
             }
         }
+    }
+
+    /// Starts a motion from the horizontal velocity `carry` (`W`, Q16 counts times samples;
+    /// the vertical from zero) and integrates its onset ([`Self::replay`]).
+    fn start(&mut self, blocks: usize, carry: [i64; 2]) {
+        self.counters.motions += 1;
+        for (axis, w) in self.axes.iter_mut().zip([carry[0], carry[1], 0]) {
+            axis.set_velocity(w);
+        }
+        self.replay(blocks);
     }
 
     /// Integrates a new motion's onset: the detector's last `blocks` blocks and the current
