@@ -148,6 +148,9 @@ def derive(d, fs):
     put("inflation", t["q_inflation_sd"])
     put("hold", rnd(d["hold_s"] * fs))
     put("quiet_ticks", quiet)
+    # The gap between a minimum-jerk stroke's lobes where its acceleration is within kappa of
+    # zero, 0.385 T kappa / A, for the longest stroke and a peak A of 1.5 kappa.
+    put("lobe_gap", rnd(0.385 / 1.5 * d["stroke_max_s"] / tick_s))
     # The quiet test's bound over the fade's span: the 2-dof tail exp(-c / 2) of one window,
     # shared by its fade / quiet windows.
     put("fade_chi2", t["chi2"] + 2 * math.log(max(fade / quiet, 1)))

@@ -419,6 +419,9 @@ pub struct DriftSettings {
     pub(crate) block: u32,
     /// The hand-band filter's two boxcars [ticks] and its delay [ticks].
     pub(crate) band: [u32; 2],
+    /// The gap between a stroke's lobes that the start's onset may bridge [ticks]:
+    /// `0.385 T / 1.5` for the longest stroke `T` ([`rest`]).
+    pub(crate) lobe_gap: u32,
     pub(crate) band_delay: u32,
     /// The tilt test's sub-windows [blocks].
     pub(crate) sub_blocks: [u32; 2],
@@ -656,6 +659,7 @@ impl Drift {
             )),
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
+            lobe_gap: round(0.385 / 1.5 * self.stroke_max_s / tick_s) as u32,
             band_delay: (l1 + l2 - 2) / 2,
             sub_blocks,
             land_blocks,
@@ -733,6 +737,7 @@ impl DriftSettings {
         f("inflation", 0, q8(self.inflation_q8));
         f("hold", 0, self.hold as f64);
         f("quiet_ticks", 0, n(self.quiet_ticks));
+        f("lobe_gap", 0, n(self.lobe_gap));
         f("fade_chi2", 0, self.fade_chi2_q8 as f64 / 256.0);
         for (i, &b) in self.tilt_blocks.iter().enumerate() {
             f("tilt_blocks", i, n(b));

@@ -40,9 +40,18 @@
 //! one's first lobe may fall short of the alarm and its second cross it, and integrating from
 //! the second lobe alone would leave the cursor gliding back at the stroke's peak speed. So
 //! each CUSUM also remembers its other side's last run: if that run ended where this one
-//! began (within the filter's length) and rose above 5 sd, which noise alone does
+//! began (within the lobes' gap and the filter's length) and rose above 5 sd, which noise
+//! alone does
 //! with probability `e^(-2 kappa 5) = 0.7 %` per run ([`super::Tuning::lobe_sd`]), the onset
-//! is that run's. The blocks
+//! is that run's. Between the lobes the acceleration stays within `kappa` of zero: a
+//! minimum-jerk stroke of `T` crosses zero at `30 d / T^3` and peaks at `A = 5.77 d / T^2`,
+//! so for `0.385 T kappa / A`, and the slow CUSUM's runs stop there. For the longest stroke
+//! and a peak of `1.5 kappa` (about the weakest whose first lobe's run still rises well
+//! past 5 sd) that is a quarter of the stroke: the lobes' gap, 0.5 s by default.
+//! With the filter's length alone (85 ms) a slow stroke's first lobe was missed, and its
+//! second left the cursor gliding back for tens of seconds (a new user's 15.5 mm stroke
+//! over 1.57 s: 3.2 m). The gap only widens the match; noise reaches 5 sd in the same 0.7 %
+//! of runs, and a false match moves the onset back by that run only. The blocks
 //! since the onset (at most [`super::BLOCKS`] - 1, 1.28 s) are integrated at once, from zero
 //! velocity: a slow stroke found half-way loses nothing of its start. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
 //! ramp: its hold runs from now, not from an onset noise may have placed earlier
@@ -173,9 +182,9 @@ impl Detector {
             let tests = if band_ready { 0..2 } else { 1..2 };
             let sd = self.noise[a].sd_q16;
             for (c, z) in [band, raw].into_iter().enumerate().skip(tests.start) {
-                // The filter smears a lobe's end over its length.
+                // The lobes' gap, and the filter smears a lobe's end over its length.
                 let slack = if c == 0 {
-                    u64::from(s.band[0] + s.band[1])
+                    u64::from(s.lobe_gap + s.band[0] + s.band[1])
                 } else {
                     1
                 };
