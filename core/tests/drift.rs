@@ -209,6 +209,32 @@ fn a_glide_goes_on_while_its_velocity_is_known_and_its_ramp_down_does_not_run_it
 }
 
 #[test]
+fn a_glide_no_hand_makes_stops_after_the_longest_glide_and_stroke() {
+    // +20 LSB for 0.1 s (a ramp to 48 mm/s), then a glide with no acceleration at all and no
+    // ramp down: hundreds of sd from zero, its velocity is explained only after tens of
+    // seconds. No hand glides longer than glide_max_s (4 s), its ramps' calm ends adding at
+    // most the longest stroke (2 s): after 6 s of calm it stops, the velocity dropped, and
+    // nothing moves after. Control: without the bound it is still gliding 10 s later.
+    let glide = |i: usize| {
+        let x = if (3000..3300).contains(&i) {
+            2068
+        } else {
+            2048
+        };
+        [x, 2048, 2048]
+    };
+    let mut t = tracker(Some(Drift::default()));
+    // 5.9 s of calm after the ramp: gliding.
+    let a = run(&mut t, 3300 + 17_700, glide);
+    assert_eq!(t.drift_state(), Some(DriftState::Moving), "{a:?}");
+    // 6.1 s: stopped.
+    run(&mut t, 600, |i| glide(i + 21_000));
+    assert!(t.is_still(), "{:?}", t.drift_state());
+    let after = run(&mut t, 30_000, |i| glide(i + 21_600));
+    assert_eq!(after, [0, 0, 0]);
+}
+
+#[test]
 fn a_faded_glide_carries_its_velocity_into_the_ramp_down() {
     // A glide so slow that its own uncertainty catches it up: +1 LSB for 0.2 s on a noisy
     // rest (the calibration's noise, variance 1 LSB^2), a glide of 4.8 mm/s, and its ramp

@@ -130,6 +130,8 @@ def derive(d, fs):
     fade = max(rnd(d["stroke_max_s"] * t["fade_fraction"] / tick_s), 1)
     put("fade_ticks", fade)
     put("glide_ticks", rnd(d["glide_max_s"] / tick_s))
+    # A hand's longest calm: the longest glide and its ramps' calm ends (the longest stroke).
+    put("calm_max", rnd((d["glide_max_s"] + d["stroke_max_s"]) / tick_s))
     shift = min(max(rnd(math.log2(t["disturbance_s"] / tick_s)), 3), 10)
     margin = lambda k: 1 + t["disturbance_sigmas"] * math.sqrt(2 / 2 ** k)
     put("dist_shift", shift)

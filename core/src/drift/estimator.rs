@@ -50,6 +50,12 @@
 //! past the chi-square whose 2-dof tail is `p / m`, `chi2 + 2 ln m` (16.9): the span as a
 //! whole keeps the one window's error rate. A stroke's deceleration is far past either.
 //!
+//! A glide's velocity may stand out of its uncertainty for tens of seconds, so a motion that
+//! starts from a wrong velocity (a stroke found in its second lobe, a ramp down taken for a
+//! ramp up) would glide that long. No hand glides longer than `glide_max_s`, and its ramps'
+//! calm ends add at most the longest stroke: a motion calm for longer than both stops, its
+//! velocity dropped. That bounds such a runaway; it does not mend it.
+//!
 //! A stroke ends with a deceleration, but near the noise floor its velocity may be explained
 //! before the deceleration is over; what is left of it would start a motion backwards. So
 //! any stop keeps its velocity for an eighth of the longest stroke (the fade's own quiet
@@ -316,6 +322,14 @@ impl Detector {
         }
         if self.motion.unproven && !explained {
             self.motion.unproven = false;
+        }
+        // No hand glides longer than `glide_max_s`, and its ramps' calm ends (half a lobe each,
+        // a lobe at most half the longest stroke) add at most the longest stroke: a motion
+        // calm for longer glides on a velocity no hand gave it (a start in a stroke's second
+        // lobe, a ramp down taken for a ramp up). It stops, its velocity dropped.
+        if quiet && self.motion.calm_run > s.calm_max {
+            self.enter_still();
+            return Action::Stop;
         }
         if quiet && explained {
             // A motion that ends younger than its hold was a jolt, not a stroke; one that

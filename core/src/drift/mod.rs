@@ -442,6 +442,9 @@ pub struct DriftSettings {
     /// window ([`estimator`]).
     pub(crate) fade_chi2_q8: u128,
     pub(crate) glide_ticks: u32,
+    /// The longest calm a hand's motion has: the longest glide and the longest stroke
+    /// [ticks] ([`estimator`]).
+    pub(crate) calm_max: u32,
     /// The disturbance's average: `2^dist_shift` ticks; its margin over the noise (Q8).
     pub(crate) dist_shift: u32,
     pub(crate) dist_margin_q8: u64,
@@ -658,6 +661,8 @@ impl Drift {
                     * 256.0,
             )),
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
+            calm_max: round((self.glide_max_s + self.stroke_max_s) / tick_s)
+                .min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
             lobe_gap: round(0.385 / 1.5 * self.stroke_max_s / tick_s) as u32,
             band_delay: (l1 + l2 - 2) / 2,
@@ -721,6 +726,7 @@ impl DriftSettings {
         f("pre_blocks", 0, n(self.pre_blocks));
         f("fade_ticks", 0, n(self.fade_ticks));
         f("glide_ticks", 0, n(self.glide_ticks));
+        f("calm_max", 0, n(self.calm_max));
         f("dist_shift", 0, n(self.dist_shift));
         f("dist_margin", 0, q8(self.dist_margin_q8));
         f("dist_margin_short", 0, q8(self.dist_margin_short_q8));
