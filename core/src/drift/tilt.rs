@@ -116,10 +116,8 @@ pub struct Tilt {
     wary: bool,
     first: [i8; 2],
     /// While a shadow runs: the tilt's direction on each horizontal axis (the sign of its
-    /// zeros against the motion's), and whether the shadow's acceleration has gone against
-    /// it (a hand's, see `Detector::shadow_against`).
+    /// zeros against the motion's).
     shadow_dir: [i8; 2],
-    shadow_turned: bool,
     /// While a shadow runs: the signs its short sub-windows took against the level, a bit
     /// per axis and sign (bit `2 a` negative, `2 a + 1` positive), and whether it may win
     /// only once one axis has taken both (a shadow begun at a change while held).
@@ -143,6 +141,20 @@ impl Tilt {
     /// Whether the motion is held by the tilt tests.
     pub(crate) const fn held(&self) -> bool {
         self.held
+    }
+
+    /// Whether the shadow's acceleration has gone against the tilt's direction on X or Y
+    /// (a sub-window's sign other than the direction's, either for an axis the tilt left
+    /// unmoved): a hand's, see `Detector::shadow_against`.
+    fn shadow_turned(&self) -> bool {
+        (0..2).any(|a| {
+            let seen = (self.shadow_signs >> (2 * a)) & 0b11;
+            match self.shadow_dir[a] {
+                1 => seen & 0b01 != 0,
+                -1 => seen & 0b10 != 0,
+                _ => seen != 0,
+            }
+        })
     }
 }
 
@@ -241,13 +253,12 @@ impl Detector {
         confirmed(s, self.one_sided_blocks(s))
     }
 
-    /// Whether the short sub-window ending `back` blocks ago went against the tilt's
-    /// direction on X or Y (significant off `level` with the other sign than the tilt's):
-    /// the shadow is then a hand's.
+    /// Records the sign the short sub-window ending `back` blocks ago took on X and Y when
+    /// significant off `level`: against the tilt's direction, the shadow is a hand's
+    /// ([`Tilt::shadow_turned`]).
     fn shadow_against(&mut self, s: &DriftSettings, level: [i64; 3], back: u32) {
-        for (a, &dir) in self.tilt.shadow_dir.iter().enumerate() {
-            let sign = self.sub_sign(s, 0, a, back, level[a]);
-            self.tilt.shadow_turned |= sign != 0 && sign != dir;
+        for (a, &l) in level.iter().enumerate().take(2) {
+            let sign = self.sub_sign(s, 0, a, back, l);
             if sign != 0 {
                 self.tilt.shadow_signs |= 1 << (2 * a + usize::from(sign > 0));
             }
@@ -371,7 +382,6 @@ impl Detector {
             + u64::from(self.stream.samples_in_block());
         self.tilt.shadow = Some((level, samples, self.stream.ticks(), certain));
         self.tilt.shadow_dir = core::array::from_fn(|a| (level[a] - bias[a]).signum() as i8);
-        self.tilt.shadow_turned = false;
         self.tilt.shadow_signs = 0;
         self.tilt.shadow_two_sided = origin == Origin::Change;
         // The shadow's replayed stretch is judged as its later blocks will be: its short
@@ -503,7 +513,7 @@ impl Detector {
             }
         }
         if may_win && shadow_quiet && self.velocity_explained(s, w, n, nb) {
-            let turned = self.tilt.shadow_turned;
+            let turned = self.tilt.shadow_turned();
             self.enter_still();
             self.tilted(s);
             self.bias_samples = nb;
