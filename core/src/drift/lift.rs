@@ -363,17 +363,23 @@ impl Detector {
         let turn = (o[0].0.unsigned_abs().saturating_add(o[1].0.unsigned_abs()))
             .saturating_mul(l.mount_q16)
             >> 16;
-        let desk = self.disturbance[2].with_amplitude(self.lift.desk[2]);
-        let shake = desk.allow(
-            desk.gains(s).land_q16,
-            crate::math::div_u64(n, u64::from(s.tick)),
-        );
-        let allow = turn.saturating_add(shake);
+        let allow = turn.saturating_add(self.desk_allowance(s, 2, n));
         within(
             o[2].0.saturating_add(curvature),
             self.noise[2].var(n, self.bias_samples),
             s.k2_q8,
             allow,
+        )
+    }
+
+    /// What the disturbance the desk had when the device was lifted can put into a mean of
+    /// `n` samples on `axis` [Q16 LSB samples] (the fall's own motion would inflate the one
+    /// measured now).
+    fn desk_allowance(&self, s: &DriftSettings, axis: usize, n: u64) -> u64 {
+        let desk = self.disturbance[axis].with_amplitude(self.lift.desk[axis]);
+        desk.allow(
+            desk.gains(s).land_q16,
+            crate::math::div_u64(n, u64::from(s.tick)),
         )
     }
 
@@ -391,11 +397,7 @@ impl Detector {
         let n = ni.min(nj);
         let di = crate::math::div_round(oi, ni as i64) * n as i64;
         let dj = crate::math::div_round(oj, nj as i64) * n as i64;
-        let desk = self.disturbance[axis].with_amplitude(self.lift.desk[axis]);
-        let allow = desk.allow(
-            desk.gains(s).land_q16,
-            crate::math::div_u64(n, u64::from(s.tick)),
-        );
+        let allow = self.desk_allowance(s, axis, n);
         within(
             di - dj,
             self.noise[axis].var(2 * n, u64::MAX),
