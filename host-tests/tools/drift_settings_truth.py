@@ -57,6 +57,15 @@ def cusum_b(kappa, arl):
     return float(mpmath.findroot(f, guess))
 
 
+def pair_b(kappa, lobe, arl):
+    """b with Siegmund's run length over (1 + 2 kappa (b - lobe)) = arl: two consecutive
+    runs of opposite sides, the first at least lobe, summing past b."""
+    k = mpmath.mpf(kappa)
+    f = lambda b: (mpmath.expm1(2 * k * b) - 2 * k * b) / (2 * k * k) / (
+        1 + 2 * k * (b - lobe)) - arl
+    return float(mpmath.findroot(f, cusum_b(kappa, arl) + 3))
+
+
 def z_upper(p):
     """z with P(Z > z) = p."""
     return float(mpmath.findroot(lambda z: mpmath.erfc(z / mpmath.sqrt(2)) / 2 - p, 5))
@@ -138,10 +147,12 @@ def derive(d, fs):
     put("dist_margin", margin(shift))
     put("dist_margin_short", margin(shift - 2))
     put("burst_k2", t["disturbance_sigmas"] ** 2)
-    # Eight one-sided CUSUMs share the false-start budget.
-    arl = d["false_start_hours"] * 3600 / tick_s * 8
+    # Eight one-sided CUSUMs and the slow ones' four two-lobe sums share the false-start
+    # budget.
+    arl = d["false_start_hours"] * 3600 / tick_s * 12
     put("alarm", cusum_b(t["kappa"][0], arl), 0)
     put("alarm", max(cusum_b(t["kappa"][1], arl) - 1.166, 0.0), 1)
+    put("alarm", pair_b(t["kappa"][0], t["lobe_sd"], arl), 2)
     put("kappa", t["kappa"][0], 0)
     put("kappa", t["kappa"][1], 1)
     put("lobe", t["lobe_sd"])
@@ -151,8 +162,9 @@ def derive(d, fs):
     put("hold", rnd(d["hold_s"] * fs))
     put("quiet_ticks", quiet)
     # The gap between a minimum-jerk stroke's lobes where its acceleration is within kappa of
-    # zero, 0.385 T kappa / A, for the longest stroke and a peak A of 1.5 kappa.
-    put("lobe_gap", rnd(0.385 / 1.5 * d["stroke_max_s"] / tick_s))
+    # zero, 0.385 T kappa / A, for the longest stroke and a peak A of 1.5 kappa, and the
+    # hand-band filter's length.
+    put("lobe_slack", rnd(0.385 / 1.5 * d["stroke_max_s"] / tick_s) + l1 + l2)
     # The quiet test's bound over the fade's span: the 2-dof tail exp(-c / 2) of one window,
     # shared by its fade / quiet windows.
     put("fade_chi2", t["chi2"] + 2 * math.log(max(fade / quiet, 1)))

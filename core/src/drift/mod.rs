@@ -43,7 +43,7 @@ pub mod estimator;
 pub mod gains;
 pub mod lift;
 pub mod noise;
-pub mod rest;
+mod rest;
 pub mod ticks;
 pub mod tilt;
 
@@ -387,12 +387,30 @@ pub fn cusum_arl(kappa: f64, b: f64) -> f64 {
     (libm::expm1(x) - x) / (2.0 * kappa * kappa)
 }
 
-/// The `b` at which [`cusum_arl`] reaches `arl`, by bisection.
+/// The `b` at which [`cusum_arl`] reaches `arl`.
 fn cusum_threshold(kappa: f64, arl: f64) -> f64 {
+    solve_rising(|b| cusum_arl(kappa, b), arl)
+}
+
+/// The alarm `b` on the sum of two consecutive runs of opposite sides, the first at least
+/// `lobe` (a stroke's two lobes, [`rest`]), as rare as one run's passing the alarm of
+/// [`cusum_threshold`]`(kappa, arl)`: a run's height has the tail `c e^(-2 kappa x)`, so
+/// that sum's is `c e^(-2 kappa b) (1 + 2 kappa c (b - lobe))`, at most `1 + 2 kappa (b -
+/// lobe)` times one run's; `b` solves `ARL(b) / (1 + 2 kappa (b - lobe)) = arl`.
+fn pair_threshold(kappa: f64, lobe: f64, arl: f64) -> f64 {
+    solve_rising(
+        |b| cusum_arl(kappa, b) / (1.0 + 2.0 * kappa * (b - lobe)).max(1.0),
+        arl,
+    )
+}
+
+/// The `b` in `0..=1000` at which a rising `f` reaches `target`, by bisection (to 2^-200 of
+/// the bracket).
+fn solve_rising(f: impl Fn(f64) -> f64, target: f64) -> f64 {
     let (mut lo, mut hi) = (0.0, 1000.0);
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if cusum_arl(kappa, mid) < arl {
+        if f(mid) < target {
             lo = mid;
         } else {
             hi = mid;
@@ -419,9 +437,10 @@ pub struct DriftSettings {
     pub(crate) block: u32,
     /// The hand-band filter's two boxcars [ticks] and its delay [ticks].
     pub(crate) band: [u32; 2],
-    /// The gap between a stroke's lobes that the start's onset may bridge [ticks]:
-    /// `0.385 T / 1.5` for the longest stroke `T` ([`rest`]).
-    pub(crate) lobe_gap: u32,
+    /// How far apart a stroke's lobes' runs may end and begin for the start's onset to
+    /// bridge them [ticks]: the gap `0.385 T / 1.5` for the longest stroke `T`, and the
+    /// hand-band filter's length, over which it smears a lobe's end ([`rest`]).
+    pub(crate) lobe_slack: u32,
     pub(crate) band_delay: u32,
     /// The tilt test's sub-windows [blocks].
     pub(crate) sub_blocks: [u32; 2],
@@ -452,8 +471,9 @@ pub struct DriftSettings {
     pub(crate) dist_margin_short_q8: u64,
     /// A burst: a tick's residual beyond this many of its sd, squared (Q8).
     pub(crate) burst_k2_q8: u64,
-    /// The slow CUSUM's alarm, the fast CUSUM's alarm [sd, Q8].
-    pub(crate) alarm_q8: [u64; 2],
+    /// The slow CUSUM's alarm, the fast CUSUM's alarm, the slow one's two lobes' alarm [sd,
+    /// Q8].
+    pub(crate) alarm_q8: [u64; 3],
     /// Their reference values [sd, Q8]; a first lobe's least height [sd, Q8].
     pub(crate) kappa_q8: [i64; 2],
     pub(crate) lobe_q8: i64,
@@ -571,10 +591,11 @@ impl Drift {
         }
 
         // The start tests (rest.rs): 8 one-sided CUSUMs (slow and fast, X and Y, both
-        // signs) share the budget.
-        let arl = self.false_start_hours * 3600.0 / tick_s * 8.0;
+        // signs) and the slow ones' 4 two-lobe sums share the budget.
+        let arl = self.false_start_hours * 3600.0 / tick_s * 12.0;
         let slow = cusum_threshold(t.kappa[0], arl);
         let fast = (cusum_threshold(t.kappa[1], arl) - 1.166).max(0.0);
+        let pair = pair_threshold(t.kappa[0], t.lobe_sd, arl);
         let arl_ticks = round(self.false_start_hours * 3600.0 / tick_s);
 
         // Gains at and above each frequency bin of the disturbance, up to Nyquist (ticks and
@@ -664,7 +685,7 @@ impl Drift {
             calm_max: round((self.glide_max_s + self.stroke_max_s) / tick_s)
                 .min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
-            lobe_gap: round(0.385 / 1.5 * self.stroke_max_s / tick_s) as u32,
+            lobe_slack: round(0.385 / 1.5 * self.stroke_max_s / tick_s) as u32 + l1 + l2,
             band_delay: (l1 + l2 - 2) / 2,
             sub_blocks,
             land_blocks,
@@ -672,7 +693,11 @@ impl Drift {
             bin_ratio_q16,
             gains,
             pre_blocks: (libm::ceil(1.0 / self.knock_hz / block_s) as u32).max(2),
-            alarm_q8: [round(slow * 256.0), round(fast * 256.0)],
+            alarm_q8: [
+                round(slow * 256.0),
+                round(fast * 256.0),
+                round(pair * 256.0),
+            ],
             kappa_q8: t.kappa.map(|k| round(k * 256.0) as i64),
             lobe_q8: round(t.lobe_sd * 256.0) as i64,
             k2_q8: round(t.k_sd * t.k_sd * 256.0),
@@ -743,7 +768,7 @@ impl DriftSettings {
         f("inflation", 0, q8(self.inflation_q8));
         f("hold", 0, self.hold as f64);
         f("quiet_ticks", 0, n(self.quiet_ticks));
-        f("lobe_gap", 0, n(self.lobe_gap));
+        f("lobe_slack", 0, n(self.lobe_slack));
         f("fade_chi2", 0, self.fade_chi2_q8 as f64 / 256.0);
         for (i, &b) in self.tilt_blocks.iter().enumerate() {
             f("tilt_blocks", i, n(b));
@@ -776,8 +801,9 @@ impl DriftSettings {
     pub const fn hold_samples(&self) -> u64 {
         self.hold
     }
-    /// The start tests' alarms [sd]: the slow (hand-band) CUSUM's and the fast one's.
-    pub fn alarms_sd(&self) -> [f64; 2] {
+    /// The start tests' alarms [sd]: the slow (hand-band) CUSUM's, the fast one's, and the
+    /// slow one's on a stroke's two lobes together.
+    pub fn alarms_sd(&self) -> [f64; 3] {
         self.alarm_q8.map(|a| a as f64 / 256.0)
     }
     /// The predicted mean time between false starts at rest [s], from the CUSUMs' Gaussian

@@ -19,13 +19,33 @@
 //! Both `kappa`s are widened by what the measured disturbance `A` can fake through their
 //! input: `G_band A` for the filtered one, `A` for the raw one ([`super::noise`]).
 //!
+//! # Two lobes together
+//! A slow stroke's lobes may each fall short of the slow alarm: at 1000 ug/sqrt(Hz), or 300
+//! on a slow hand, a stroke of a few floors peaks near one tick sd, and each lobe's run
+//! rises by about `(mean - kappa)` sd a tick over half the stroke (an 8 mm stroke over 1 s
+//! at 1.2 LSB of tick noise, each axis's lobes averaging 0.7 tick sd: runs of 6 to 21 sd
+//! in four noise draws, under the alarm, and pairs of 19 to 39). Both
+//! lobes together hold twice the evidence, and noise rarely makes it: a run's height has
+//! the tail `c e^(-2 kappa x)` (the Brownian excursion's), so two consecutive runs of
+//! opposite sides, the first at least `lobe_sd`, sum past `b` with probability at most `(1 +
+//! 2 kappa (b - lobe_sd))` times one run's passing `b` (the convolution of the two tails).
+//! The two-lobe alarm is the `b` at which that rate is one test's share of the budget
+//! (`pair_threshold`: 27.7 sd beside the single 24.5 at 3 kHz). It is checked when the
+//! second lobe's run ends, the stroke over: the motion starts from the first lobe's onset
+//! with every block since replayed, and arrives whole at once, its latency the stroke's
+//! duration. A start replays at most `BLOCKS - 1` blocks (1.26 s), so for a longer stroke
+//! the sum is also checked once the first lobe's onset is about to leave them, and a pair
+//! found later still starts from the oldest block: a minimum-jerk stroke's speed rises as
+//! `u^2` (a tenth of the way in, 0.24 of its mean), so the beginning lost costs less than
+//! the stroke (the test with its controls: `core/tests/drift.rs`).
+//!
 //! # Thresholds from the false-start budget
-//! The eight CUSUMs (slow and fast, X and Y, both signs) share
-//! [`super::Drift::false_start_hours`] equally. On unit-variance Gaussian increments a
+//! The eight CUSUMs (slow and fast, X and Y, both signs) and the slow ones' four two-lobe
+//! sums (below) share [`super::Drift::false_start_hours`] equally. On unit-variance Gaussian increments a
 //! CUSUM's average run length to a false alarm is `(e^(2 kappa b) - 1 - 2 kappa b) / (2
 //! kappa^2)` (Siegmund), with `b = h` for the filtered one (a smooth input has no overshoot:
 //! Brownian motion's exact result, conservative) and `b = h + 1.166` for the raw one. At
-//! 3 kHz (5 ms ticks) and 10^4 hours: `h = 24.3` (slow) and `h = 8.1` (fast). When the
+//! 3 kHz (5 ms ticks) and 10^4 hours: `h = 24.5` (slow) and `h = 7.7` (fast). When the
 //! sensor's noise is below an LSB the codes' excursions are not Gaussian: the ADC's steps
 //! steepen a large one beyond the small fluctuations the noise was learnt from, so the sd
 //! both CUSUMs standardise by is the learnt one times the quantizer's bound
@@ -39,11 +59,10 @@
 //! back by the filter's delay. A stroke's acceleration has two lobes of opposite sign; a slow
 //! one's first lobe may fall short of the alarm and its second cross it, and integrating from
 //! the second lobe alone would leave the cursor gliding back at the stroke's peak speed. So
-//! each CUSUM also remembers its other side's last run: if that run ended where this one
-//! began (within the lobes' gap and the filter's length) and rose above 5 sd, which noise
-//! alone does
-//! with probability `e^(-2 kappa 5) = 0.7 %` per run ([`super::Tuning::lobe_sd`]), the onset
-//! is that run's. Between the lobes the acceleration stays within `kappa` of zero: a
+//! as a run leaves zero it takes its **first lobe**: its other side's run, still decaying or
+//! the last one, if that run ended where this one began (within the lobes' gap and the
+//! filter's length) and rose above 5 sd, which noise alone does with probability `e^(-2
+//! kappa 5) = 0.7 %` per run ([`super::Tuning::lobe_sd`]); the onset is then that run's. Between the lobes the acceleration stays within `kappa` of zero: a
 //! minimum-jerk stroke of `T` crosses zero at `30 d / T^3` and peaks at `A = 5.77 d / T^2`,
 //! so for `0.385 T kappa / A`, and the slow CUSUM's runs stop there. For the longest stroke
 //! and a peak of `1.5 kappa` (about the weakest whose first lobe's run still rises well
@@ -72,6 +91,11 @@ pub struct Rest {
     peak: [[[i64; 2]; 2]; 2],
     /// Each CUSUM's last finished run: its onset, its highest value, the tick it ended.
     last: [[[(u64, i64, u64); 2]; 2]; 2],
+    /// Each slow CUSUM's current run's first lobe, taken as the run left zero: the onset
+    /// and highest value of the other side's run before it, if it was one (see the module
+    /// docs); a highest value of 0 for none [Q16 LSB samples]. (The fast one's runs are a
+    /// few ticks long: its other side's last run is still the one before when it alarms.)
+    lobe: [[(u64, i64); 2]; 2],
     /// Per horizontal axis and side, how far the current tick's offset so far may go before
     /// the fast CUSUM alarms on it with a whole tick's drift subtracted [Q16 LSB samples]:
     /// `alarm - S + kappa sd + A` ([`Self::within_headroom`]).
@@ -85,48 +109,90 @@ impl Rest {
         self.onset = [[[tick; 2]; 2]; 2];
         self.peak = [[[0; 2]; 2]; 2];
         self.last = [[[(tick, 0, tick); 2]; 2]; 2];
+        self.lobe = [[(tick, 0); 2]; 2];
     }
 
-    /// The onset of the run of CUSUM `c` on `axis`, `side` that alarmed: its own, or its
-    /// other side's last run's if that was the stroke's first lobe (see the module docs).
-    fn onset_of(
-        &self,
-        s: &DriftSettings,
-        c: usize,
-        axis: usize,
-        side: usize,
-        sd: i64,
-        slack: u64,
-    ) -> u64 {
+    /// Whether a run `(onset, peak, end)` of CUSUM `c`'s other side was the first lobe of
+    /// a run of its own beginning at `own`: it ended within `slack` ticks of it and rose
+    /// above `lobe_sd` (see the module docs).
+    fn is_lobe(s: &DriftSettings, run: (u64, i64, u64), own: u64, sd: i64, slack: u64) -> bool {
+        let (_, peak, end) = run;
+        end + slack >= own && i128::from(peak) << 8 >= i128::from(s.lobe_q8) * i128::from(sd)
+    }
+
+    /// As the slow CUSUM on `axis`, `side` leaves zero: its first lobe, the other side's
+    /// run before it (still going, a first lobe decaying, or its last) if it was one, within
+    /// the lobes' gap and the filter's length, over which it smears a lobe's end.
+    fn take_lobe(&mut self, s: &DriftSettings, axis: usize, side: usize, sd: i64) {
+        let other = 1 - side;
+        let own = self.onset[0][axis][side];
+        let run = if self.cusum[0][axis][other] > 0 {
+            (self.onset[0][axis][other], self.peak[0][axis][other], own)
+        } else {
+            self.last[0][axis][other]
+        };
+        self.lobe[axis][side] = if Self::is_lobe(s, run, own, sd, u64::from(s.lobe_slack)) {
+            (run.0.min(own), run.1)
+        } else {
+            (own, 0)
+        };
+    }
+
+    /// The onset of the run of CUSUM `c` on `axis`, `side` that alarmed: its first lobe's
+    /// if it had one, else its own.
+    fn onset_of(&self, s: &DriftSettings, c: usize, axis: usize, side: usize, sd: i64) -> u64 {
         let own = self.onset[c][axis][side];
-        let (onset, peak, end) = self.last[c][axis][1 - side];
-        if end + slack >= own && i128::from(peak) << 8 >= i128::from(s.lobe_q8) * i128::from(sd) {
-            onset.min(own)
+        if c == 0 {
+            return self.lobe[axis][side].0;
+        }
+        let last = self.last[1][axis][1 - side];
+        if Self::is_lobe(s, last, own, sd, 1) {
+            last.0.min(own)
         } else {
             own
         }
     }
 
-    /// The drifts and alarms of `axis` [Q16 LSB samples]: `([slow, fast] kappa sd + the
-    /// disturbance's allowance, [slow, fast] h sd)`.
-    fn limits(s: &DriftSettings, n: &Noise, d: &Disturbance) -> ([i64; 2], [i64; 2]) {
+    /// The slow CUSUM's two-lobe alarm on `axis`, `side` for a run of height `run`: its first
+    /// lobe's onset if the two together pass it ([`DriftSettings::alarm_q8`]`[2]`; the test
+    /// against the single `alarm` first, which the two-lobe one exceeds, is the cheap one).
+    #[inline(always)]
+    fn pair(
+        &self,
+        s: &DriftSettings,
+        axis: usize,
+        side: usize,
+        run: i64,
+        sd: i64,
+        alarm: i64,
+    ) -> Option<u64> {
+        let (onset, peak) = self.lobe[axis][side];
+        (run + peak > alarm && run + peak > Self::alarm(s.alarm_q8[2], sd)).then_some(onset)
+    }
+
+    /// `h sd` for an alarm `h` [sd, Q8] and an `sd` [Q16 LSB samples]: in 64 bits when the
+    /// product fits (it does for every sd a 16-bit ADC can show at the default budget), in
+    /// 128 otherwise: the same alarm.
+    fn alarm(h: u64, sd: i64) -> i64 {
+        match i64::try_from(h).ok().and_then(|h| h.checked_mul(sd)) {
+            Some(p) => p >> 8,
+            None => ((i128::from(h) * i128::from(sd)) >> 8) as i64,
+        }
+    }
+
+    /// The drift and alarm of CUSUM `c` (0 slow, 1 fast) on an axis of noise `n` and
+    /// disturbance `d` [Q16 LSB samples]: `(kappa sd + the disturbance's allowance, h sd)`.
+    fn limits(s: &DriftSettings, n: &Noise, d: &Disturbance, c: usize) -> (i64, i64) {
         let sd = n.sd_q16;
-        let a = d.amp_q16 as i64;
-        let band = d.allow(d.gains(s).band_q16, 1) as i64;
-        let kappa = [
-            ((s.kappa_q8[0] * sd) >> 8) + band,
-            ((s.kappa_q8[1] * sd) >> 8) + a,
-        ];
-        // In 64 bits when the product fits (it does for every sd a 16-bit ADC can show at
-        // the default budget), in 128 otherwise: the same alarm.
-        let alarm =
-            s.alarm_q8.map(
-                |h| match i64::try_from(h).ok().and_then(|h| h.checked_mul(sd)) {
-                    Some(p) => p >> 8,
-                    None => ((i128::from(h) * i128::from(sd)) >> 8) as i64,
-                },
-            );
-        (kappa, alarm)
+        let allowance = if c == 0 {
+            d.allow(d.gains(s).band_q16, 1) as i64
+        } else {
+            d.amp_q16 as i64
+        };
+        (
+            ((s.kappa_q8[c] * sd) >> 8) + allowance,
+            Self::alarm(s.alarm_q8[c], sd),
+        )
     }
 
     /// Recomputes the headroom after a tick, while Still.
@@ -141,9 +207,9 @@ impl Rest {
             return;
         }
         for a in 0..2 {
-            let (kappa, alarm) = Self::limits(s, &noise[a], &dist[a]);
+            let (kappa, alarm) = Self::limits(s, &noise[a], &dist[a], 1);
             for side in 0..2 {
-                self.headroom[a][side] = alarm[1] - self.cusum[1][a][side] + kappa[1];
+                self.headroom[a][side] = alarm - self.cusum[1][a][side] + kappa;
             }
         }
     }
@@ -175,48 +241,64 @@ impl Detector {
         // The filter remembers L1 + L2 - 1 ticks: until it has forgotten the motion before
         // this rest, only the raw test runs.
         let band_ready = self.age() >= u64::from(s.band[0] + s.band[1] - 1);
+        let delay = u64::from(s.band_delay);
+        // A start replays at most BLOCKS - 1 blocks: one less, for the block the onset is in.
+        let replay = (BLOCKS as u64 - 2) * u64::from(s.block);
         for (a, &b) in bias.iter().enumerate().take(2) {
-            let (kappa, limit) = Rest::limits(s, &self.noise[a], &self.disturbance[a]);
             let raw = offset(u64::from(self.stream.code(1, a)), u64::from(s.tick), b);
             let band = self.stream.band_offset(s, a, b);
             let tests = if band_ready { 0..2 } else { 1..2 };
             let sd = self.noise[a].sd_q16;
-            for (c, z) in [band, raw].into_iter().enumerate().skip(tests.start) {
-                // The lobes' gap, and the filter smears a lobe's end over its length.
-                let slack = if c == 0 {
-                    u64::from(s.lobe_gap + s.band[0] + s.band[1])
-                } else {
-                    1
-                };
-                for (side, z) in [z, -z].into_iter().enumerate() {
+            // (Plain ranges: the arrays' iterators cost about 40 instructions a tick on the
+            // Cortex-M4 once this body is too long for them to be unrolled.)
+            for c in tests {
+                let z = if c == 0 { band } else { raw };
+                let (kappa, limit) = Rest::limits(s, &self.noise[a], &self.disturbance[a], c);
+                for side in 0..2 {
+                    let z = if side == 0 { z } else { -z };
                     let r = &mut self.rest;
                     let before = r.cusum[c][a][side];
-                    let sum = (before + z - kappa[c]).max(0);
+                    let sum = (before + z - kappa).max(0);
                     r.cusum[c][a][side] = sum;
+                    // The slow one's two lobes together (see the module docs): at the second
+                    // one's end, or once the first one's onset is leaving the blocks.
+                    let mut pair = None;
                     if sum == 0 {
                         if before > 0 {
+                            if c == 0 {
+                                pair = r.pair(s, a, side, r.peak[0][a][side], sd, limit);
+                            }
                             r.last[c][a][side] = (r.onset[c][a][side], r.peak[c][a][side], t);
                         }
                         r.onset[c][a][side] = t;
                         r.peak[c][a][side] = 0;
                     } else {
+                        if c == 0 {
+                            if before == 0 {
+                                r.take_lobe(s, a, side, sd);
+                            }
+                            let lobe_onset = r.lobe[a][side].0;
+                            pair = r
+                                .pair(s, a, side, sum, sd, limit)
+                                .filter(|_| t - lobe_onset.saturating_sub(delay) >= replay);
+                        }
                         r.peak[c][a][side] = r.peak[c][a][side].max(sum);
                     }
-                    if sum > limit[c] {
+                    if sum > limit || pair.is_some() {
                         // The slow one's run began the filter's delay before it shows (and a
                         // disturbance's allowance delays the fast one's: the slow one's run,
                         // if it has begun, is the earlier start); no run began before this
                         // rest.
-                        let delay = u64::from(s.band_delay);
-                        let mut on = self.rest.onset_of(s, c, a, side, sd, slack);
+                        let r = &self.rest;
+                        let mut on = pair.unwrap_or_else(|| r.onset_of(s, c, a, side, sd));
                         if c == 0 {
                             on = on.saturating_sub(delay);
-                        } else if self.rest.cusum[0][a][side] > 0 {
-                            on = on.min(self.rest.onset[0][a][side].saturating_sub(delay));
+                        } else if r.cusum[0][a][side] > 0 {
+                            on = on.min(r.onset[0][a][side].saturating_sub(delay));
                         }
                         let on = on.max(self.entered);
                         alarm = Some(alarm.map_or(on, |o: u64| o.min(on)));
-                        step |= c == 1 && z - kappa[1] > limit[1];
+                        step |= c == 1 && z - kappa > limit;
                     }
                 }
             }
