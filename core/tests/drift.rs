@@ -1265,6 +1265,18 @@ fn wide_code(n: &mut Noise, mid: f64) -> u16 {
     (mid.round() as i32 + v) as u16
 }
 
+/// Noise draw `seed` of [`wide_code`] and a default tracker calibrated on 1 s of it at
+/// mid-scale.
+fn wide_calibrated(seed: u64) -> (Noise, Tracker) {
+    let mut n = Noise(Trace::new(seed));
+    let mut t = Tracker::new(&Config::default()).expect("valid");
+    let cal: Vec<[u16; 3]> = (0..3000)
+        .map(|_| core::array::from_fn(|_| wide_code(&mut n, 2048.0)))
+        .collect();
+    t.feed(&cal);
+    (n, t)
+}
+
 #[test]
 fn a_slow_stroke_found_in_its_second_lobe_arrives_from_its_first() {
     // A new user's slow stroke: 15.5 mm over 1.571 s at 311 degrees (minimum jerk, its peak
@@ -1297,12 +1309,7 @@ fn slow_stroke_arrives(d: f64, dur: f64, seed: u64) {
     let nd = 4.8 * lsb / 1500f64.sqrt();
     let floor = nd * dur.powf(1.5) / 6f64.sqrt();
     let allowed = (0.05 * d).max(3.0 * floor) * 1000.0;
-    let mut n = Noise(Trace::new(seed));
-    let mut t = Tracker::new(&Config::default()).expect("valid");
-    let cal: Vec<[u16; 3]> = (0..3000)
-        .map(|_| core::array::from_fn(|_| wide_code(&mut n, 2048.0)))
-        .collect();
-    t.feed(&cal);
+    let (mut n, mut t) = wide_calibrated(seed);
     let (mut pos, mut best, mut retreat) = ([0i64; 2], 0f64, 0f64);
     let along = |p: [i64; 2]| (p[0] as f64 * dir.cos() + p[1] as f64 * dir.sin()) * 25.4 / 800.0;
     for i in 0..((3.5 + dur) * 3000.0) as usize {
@@ -1388,12 +1395,7 @@ fn lift_then_stroke(seed: u64, gap: f64) -> (f64, f64) {
         let m = len * ramp((t - t0) / dur);
         ([m * dir.cos(), m * dir.sin(), z], [roll * w, pitch * w])
     };
-    let mut n = Noise(Trace::new(seed));
-    let mut t = Tracker::new(&Config::default()).expect("valid");
-    let cal: Vec<[u16; 3]> = (0..3000)
-        .map(|_| core::array::from_fn(|_| wide_code(&mut n, 2048.0)))
-        .collect();
-    t.feed(&cal);
+    let (mut n, mut t) = wide_calibrated(seed);
     let (mut pos, mut start, mut jump) = ([0i64; 2], [0i64; 2], 0f64);
     let mm = |c: i64| c as f64 * 25.4 / 800.0;
     for i in 0..((t0 + dur + 3.0) * fs) as usize {
