@@ -316,7 +316,7 @@ impl Detector {
             if self.stream.block_closed() {
                 self.shadow_block(s, bias);
             }
-            if let Some(action) = self.shadow_decision(s, bias, (velocity, w), quiet, explained) {
+            if let Some(action) = self.shadow_decision(s, bias, w, quiet, explained) {
                 return action;
             }
         }

@@ -42,9 +42,14 @@
 //! blocks, [`super::tilt`]) is steady on every axis (its thirds agree within `K_TILT`
 //! sd plus the allowance of the disturbance the desk had when it was lifted: the fall's own
 //! motion would inflate the disturbance measured now), the device rests: the zeros become that window's
-//! last third's means if any differs from the old zero by more than its noise allows (set
-//! down on a slope), and stay otherwise. The lift test then waits `W` ticks, until its
-//! window holds only ticks at the new zero.
+//! middle third's means if any differs from the old zero by more than its noise allows (set
+//! down on a slope), and stay otherwise. The middle third, not the last: while lifted no
+//! start test runs, and a stroke begun in the last third's final milliseconds leaves it
+//! steady with the others but moves its means (a new user's stroke begun 10 ms before a
+//! landing at the timeout: 1.2 LSB on X and Y, a zero from which the stroke never came to
+//! rest, delivered 4.1 m off); the thirds agree, so the middle one's level is the last's
+//! within their test. The lift test then waits `W` ticks, until its window holds only ticks
+//! at the new zero.
 //!
 //! # Gravity at rest
 //! The thirds' test compares three means; a fall's accelerations can average alike over
@@ -317,7 +322,8 @@ impl Detector {
                     Action::None
                 };
             }
-            let (o, n) = t[2];
+            // The middle third (see the module docs); gravity's test on the last.
+            let (o, n) = t[1];
             last[a] = t[2];
             n_last = n;
             moved |= !within(o, noise.var(n, self.bias_samples), s.k2_q8, 0);

@@ -34,10 +34,11 @@
 //! second lobe's run ends, the stroke over: the motion starts from the first lobe's onset
 //! with every block since replayed, and arrives whole at once, its latency the stroke's
 //! duration. A start replays at most `BLOCKS - 1` blocks (1.26 s), so for a longer stroke
-//! the sum is also checked once the first lobe's onset is about to leave them, and a pair
-//! found later still starts from the oldest block: a minimum-jerk stroke's speed rises as
-//! `u^2` (a tenth of the way in, 0.24 of its mean), so the beginning lost costs less than
-//! the stroke (the test with its controls: `core/tests/drift.rs`).
+//! the sum is also checked once, as the first lobe's onset is about to leave them; a pair
+//! whose first lobe has left starts nothing. A replay from the oldest block would start the
+//! motion mid-way from zero velocity: a new user's out-and-back strokes, whose middle lobes
+//! of one sign make one run, glided 340 to 620 mm that way (the tests with their controls:
+//! `core/tests/drift.rs`).
 //!
 //! # Thresholds from the false-start budget
 //! The eight CUSUMs (slow and fast, X and Y, both signs) and the slow ones' four two-lobe
@@ -260,13 +261,16 @@ impl Detector {
                     let before = r.cusum[c][a][side];
                     let sum = (before + z - kappa).max(0);
                     r.cusum[c][a][side] = sum;
-                    // The slow one's two lobes together (see the module docs): at the second
-                    // one's end, or once the first one's onset is leaving the blocks.
+                    // The slow one's two lobes together (see the module docs), while the
+                    // first one's onset is in the blocks: at the second one's end, or as that
+                    // onset is about to leave them.
                     let mut pair = None;
                     if sum == 0 {
                         if before > 0 {
                             if c == 0 {
-                                pair = r.pair(s, a, side, r.peak[0][a][side], sd, limit);
+                                pair = r
+                                    .pair(s, a, side, r.peak[0][a][side], sd, limit)
+                                    .filter(|&on| t - on.saturating_sub(delay) <= replay);
                             }
                             r.last[c][a][side] = (r.onset[c][a][side], r.peak[c][a][side], t);
                         }
@@ -277,10 +281,9 @@ impl Detector {
                             if before == 0 {
                                 r.take_lobe(s, a, side, sd);
                             }
-                            let lobe_onset = r.lobe[a][side].0;
                             pair = r
                                 .pair(s, a, side, sum, sd, limit)
-                                .filter(|_| t - lobe_onset.saturating_sub(delay) >= replay);
+                                .filter(|&on| t - on.saturating_sub(delay) == replay);
                         }
                         r.peak[c][a][side] = r.peak[c][a][side].max(sum);
                     }

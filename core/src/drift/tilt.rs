@@ -49,10 +49,7 @@
 //!   stroke has lobes of both signs on the axis it moves, so one of them does; a pad that
 //!   goes on settling after the level was taken only adds to its tilt, and its shadow's
 //!   motion is dropped with the rest ([`super::Action::Rebias`]). If neither has within the longest stroke, the tilt hypothesis wins while the
-//!   acceleration is still one-sided and the shadow's velocity is below the motion's, the
-//!   motion's otherwise: of two hypotheses that never came to rest, the slower one's zero is
-//!   the nearer (a shadow begun at a stroke's crest runs away at the crest's acceleration;
-//!   adopted, a new user's stroke after a landing delivered 3.9 m in one poll).
+//!   acceleration is still one-sided, the motion's otherwise.
 //! - **A change while held**: held, the three short sub-windows before the last steady
 //!   and significant (a level), and the last not steady with them. Either the pad settled
 //!   and a hand moved it (the stroke would otherwise be dropped with the tilt's runaway when
@@ -496,7 +493,7 @@ impl Detector {
         &mut self,
         s: &DriftSettings,
         bias: [i64; 3],
-        (v, w): ([i64; 3], [i64; 3]),
+        w: [i64; 3],
         quiet: bool,
         explained: bool,
     ) -> Option<Action> {
@@ -549,7 +546,7 @@ impl Detector {
             return None;
         }
         let sided = self.one_sided_blocks(s);
-        if sided.iter().any(|&b| b >= s.tilt_blocks[0]) && slower(w, v) {
+        if sided.iter().any(|&b| b >= s.tilt_blocks[0]) {
             self.motion.begin(n, false);
             self.bias_samples = nb;
             self.tilt.held = false;
@@ -580,15 +577,4 @@ impl Detector {
         }
         Action::TrackBias(out)
     }
-}
-
-/// Whether horizontal velocity `a` is slower than `b` (the same units): of two hypotheses
-/// that never came to rest, the one whose zero is nearer the device's runs away less.
-fn slower(a: [i64; 3], b: [i64; 3]) -> bool {
-    let sq = |v: [i64; 3]| {
-        (0..2)
-            .map(|i| i128::from(v[i]) * i128::from(v[i]))
-            .sum::<i128>()
-    };
-    sq(a) < sq(b)
 }
