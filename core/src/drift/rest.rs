@@ -113,8 +113,8 @@ impl Rest {
         self.lobe = [[(tick, 0); 2]; 2];
     }
 
-    /// Whether a run `(onset, peak, end)` of CUSUM `c`'s other side was the first lobe of
-    /// a run of its own beginning at `own`: it ended within `slack` ticks of it and rose
+    /// Whether a run `(onset, peak, end)` of one side of a CUSUM was the first lobe of a run
+    /// of the other side beginning at `own`: it ended within `slack` ticks of it and rose
     /// above `lobe_sd` (see the module docs).
     fn is_lobe(s: &DriftSettings, run: (u64, i64, u64), own: u64, sd: i64, slack: u64) -> bool {
         let (_, peak, end) = run;
