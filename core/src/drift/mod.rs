@@ -43,7 +43,7 @@ pub mod estimator;
 pub mod gains;
 pub mod lift;
 pub mod noise;
-mod rest;
+pub mod rest;
 pub mod ticks;
 pub mod tilt;
 
