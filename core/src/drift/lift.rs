@@ -310,7 +310,7 @@ impl Detector {
         }
         let mut level = bias;
         let mut moved = false;
-        let mut n_last = 0;
+        let mut n_level = 0;
         let mut last = [(0, 0); 3];
         for (a, b) in bias.iter().enumerate() {
             let t = thirds(self, s, a, m, *b);
@@ -325,7 +325,7 @@ impl Detector {
             // The middle third (see the module docs); gravity's test on the last.
             let (o, n) = t[1];
             last[a] = t[2];
-            n_last = n;
+            n_level = n;
             moved |= !within(o, noise.var(n, self.bias_samples), s.k2_q8, 0);
             level[a] = *b + crate::math::div_round(o, n as i64);
         }
@@ -335,7 +335,7 @@ impl Detector {
         self.enter_still();
         self.lift_wait(s);
         if moved {
-            self.bias_samples = n_last;
+            self.bias_samples = n_level;
             Action::Rebias {
                 bias: level,
                 discard: false,
