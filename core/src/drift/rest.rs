@@ -355,7 +355,7 @@ impl Detector {
         let blocks = (done - onset_block.min(done))
             .min(BLOCKS as u64 - 1)
             .min(done.saturating_sub(1));
-        let latent = self.take_latent(s);
+        let latent = self.take_latent(s, onset, bias);
         // A disturbed device's velocity at the onset is the disturbance's, not zero: the one
         // whose integral over the rest before averages to zero (ticks.rs). Only from rest.
         let disturbed = self.disturbance[..2]

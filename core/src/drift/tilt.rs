@@ -43,23 +43,25 @@
 //!   ([`super::Action::Shadow`]). Whichever stop test passes first (quiet and velocity
 //!   explained, each against its own zero) wins: the motion is delivered as it is, or the
 //!   shadow replaces it ([`super::Action::Adopt`]: the tilt's runaway dropped, the level the
-//!   new zero). A shadow wins with its own motion only if that went against the tilt's
-//!   direction on X or Y (a short sub-window, of its replay or later, significant against
-//!   the level with the other sign than the level's own offset from the old zero): a hand's
-//!   stroke has lobes of both signs on the axis it moves, so one of them does; a pad that
-//!   goes on settling after the level was taken only adds to its tilt, and its shadow's
-//!   motion is dropped with the rest ([`super::Action::Rebias`]). If neither has within the longest stroke, the tilt hypothesis wins while the
+//!   new zero). The shadow may win only once one axis's short sub-windows (of its replay or
+//!   later) have gone both ways against the level, as a hand's stroke from rest does (two
+//!   lobes). A release can come at a slow stroke's crest: one 100 ms sub-window of a lobe
+//!   peaking at 5.8 sd falls short of `K_TILT` by noise, the level before it is the crest's,
+//!   and there the shadow is quiet and its velocity small while the acceleration rounds the
+//!   crest; a shadow that could win one-sided won within 50 ms and took the stroke's first
+//!   half for a tilt (a 45.5 mm stroke over 1.68 s at 741 ug/sqrt(Hz): 38 mm short in 2 of
+//!   40 noise draws). A pad that goes on settling after the level was taken only adds to
+//!   its tilt: its shadow never goes both ways, and the tilt is confirmed as any (below). If
+//!   neither has won within the longest stroke, the tilt hypothesis wins while the
 //!   acceleration is still one-sided, the motion's otherwise.
 //! - **A change while held**: held, the three short sub-windows before the last steady
 //!   and significant (a level), and the last not steady with them. Either the pad settled
 //!   and a hand moved it (the stroke would otherwise be dropped with the tilt's runaway when
 //!   the tilt is confirmed), or the acceleration of the held stroke itself stood steady at
 //!   its crest and now falls. A shadow from that level, replaying the last sub-window, tells
-//!   them apart at its end, as at a release, with one more condition: it may win only once
-//!   one axis's short sub-windows have gone both ways against the level, as a hand's stroke
-//!   from rest does (two lobes), while a crest's fall goes one way (a shadow begun at the
-//!   crest is quiet and its velocity small while the acceleration rounds the crest, and
-//!   without this it would take the stroke's first half for a tilt). Where a crest's noise
+//!   them apart at its end, as at a release, two-sided: a crest's fall goes one way (a
+//!   shadow begun at the crest is quiet and its velocity small while the acceleration rounds
+//!   the crest, and one-sided it would take the stroke's first half for a tilt). Where a crest's noise
 //!   makes both signs the shadow can still win wrongly (seed 2's trial 68 of the 14- and
 //!   16-bit sweeps, 73 mm). If the tilt is confirmed before such a shadow has gone both
 //!   ways, the change was more of the tilt: the shadow ends and the confirmation goes on as
@@ -123,6 +125,7 @@ pub struct Tilt {
     /// only once one axis has taken both (a shadow begun at a change while held).
     shadow_signs: u8,
     shadow_two_sided: bool,
+    shadow_change: bool,
 }
 
 /// Where a shadow began (see the module docs).
@@ -383,7 +386,8 @@ impl Detector {
         self.tilt.shadow = Some((level, samples, self.stream.ticks(), certain));
         self.tilt.shadow_dir = core::array::from_fn(|a| (level[a] - bias[a]).signum() as i8);
         self.tilt.shadow_signs = 0;
-        self.tilt.shadow_two_sided = origin == Origin::Change;
+        self.tilt.shadow_two_sided = origin != Origin::Confirmed;
+        self.tilt.shadow_change = origin == Origin::Change;
         // The shadow's replayed stretch is judged as its later blocks will be: its short
         // sub-windows, back to back, against the level.
         let short = u64::from(s.sub_blocks[0]);
@@ -540,7 +544,7 @@ impl Detector {
             // The zeros become the last sub-window's means; Still.
             return Some(self.rezero_on_last(s, bias, 0));
         }
-        if self.tilt.shadow_two_sided {
+        if self.tilt.shadow_change {
             // A change's shadow that never came to rest: its level was not a settled pad's
             // (a tilt still under way); the held motion goes on as it was.
             return None;
