@@ -1466,6 +1466,133 @@ fn a_zigzag_leg_that_does_not_decelerate_the_stopped_one_starts_from_rest() {
     }
 }
 
+/// A desk a machine shakes with `mg` milli-g at `hz` Hz on every axis (phases 0, 1 and 2
+/// radians), starting `machine` s into tracking and ramped in over 0.2 s, and a sensor of
+/// [`noisy_code`]`(.., k)`'s white noise.
+#[derive(Clone, Copy)]
+struct Shaking {
+    mg: f64,
+    hz: f64,
+    k: usize,
+    machine: f64,
+}
+
+/// A minimum-jerk stroke of `d` m over `dur` s at 311 degrees, 1.5 s after the machine of
+/// `desk` starts (noise draw `seed`, calibration on the quiet desk before): how far the
+/// cursor ends from the stroke's end 2.5 s after it, and the error allowed, max(5 %, 3
+/// floors) [mm]. With `d = 0`, how far it moved at all.
+fn stroke_on_a_shaking_desk(desk: Shaking, d: f64, dur: f64, seed: u64) -> (f64, f64) {
+    let Shaking { mg, hz, k, machine } = desk;
+    let deg = 311.0f64;
+    let dir = deg.to_radians();
+    let lsb = Config::default().m_s2_per_lsb;
+    let nd = (11.5 * k as f64).sqrt() * lsb / 1500f64.sqrt();
+    let allowed = (0.05 * d).max(3.0 * nd * dur.powf(1.5) / 6f64.sqrt()) * 1000.0;
+    let (mut n, mut t) = noisy_calibrated(seed, k);
+    let mut pos = [0i64; 2];
+    let amp = mg * 1e-3 * 9.80665 / lsb;
+    let w = std::f64::consts::TAU * hz;
+    // The machine starts 2 s into tracking, the stroke 1.5 s later.
+    for i in 0..((machine + 1.5 + dur + 2.5) * 3000.0) as usize {
+        let time = i as f64 / 3000.0;
+        let u = (time - machine - 1.5) / dur;
+        let a = if (0.0..1.0).contains(&u) {
+            d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u) / lsb
+        } else {
+            0.0
+        };
+        let on = time - machine;
+        let v = |ph: f64| amp * (on / 0.2).clamp(0.0, 1.0) * (w * on + ph).sin();
+        let c = [
+            noisy_code(&mut n, 2048.0 + a * dir.cos() + v(0.0), k),
+            noisy_code(&mut n, 2048.0 + a * dir.sin() + v(1.0), k),
+            noisy_code(&mut n, 2048.0 + v(2.0), k),
+        ];
+        t.feed(&[c]);
+        if i % 3 == 2 {
+            let c = t.take_counts();
+            pos = [pos[0] + i64::from(c[0]), pos[1] + i64::from(c[1])];
+        }
+    }
+    let end = pos.map(|p| p as f64 * 25.4 / 800.0);
+    let error = (end[0] - d * 1000.0 * dir.cos()).hypot(end[1] - d * 1000.0 * dir.sin());
+    (error, allowed)
+}
+
+#[test]
+fn strokes_on_a_shaking_desk_arrive_as_on_a_quiet_one() {
+    // A machine shakes the desk with 47.6 mg at 30 Hz on every axis, 4.8 LSB of white noise
+    // a sample (303 ug/sqrt(Hz)); strokes of 15 mm over 1 s, 20 mm over 1.5 s and 30 mm over
+    // 1.8 s, draws 0-7: all 24 within max(5 %, 3 floors). Two rules carry them; controls:
+    // - the slow start test's kappa widened by what the vibration can put into a tick
+    //   (`G_band A`) instead of its run judged net of what it can add to a run: 11 of the 16
+    //   slower strokes outside (4 of the 20 mm ones never move);
+    // - the noise learnt at rest from ticks the desk's disturbance shook: the learnt sd grows
+    //   2.2-fold in 3 s, and 19 of the 24 are outside (every 20 and 30 mm stroke never
+    //   moves).
+    let desk = Shaking {
+        mg: 47.6,
+        hz: 30.0,
+        k: 2,
+        machine: 2.0,
+    };
+    for (d, dur) in [(0.015, 1.0), (0.02, 1.5), (0.03, 1.8)] {
+        for seed in 0..8 {
+            let (error, allowed) = stroke_on_a_shaking_desk(desk, d, dur, seed);
+            assert!(
+                error <= allowed,
+                "{d} m over {dur} s, draw {seed}: {error:.1} mm off, allowed {allowed:.1}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_stroke_found_whole_after_it_ended_on_a_shaking_desk_is_not_taken_for_the_shaking() {
+    // The machine starts as tracking does, and a weak stroke, 12 mm over 1.6 s, comes 1.5 s
+    // later: in draws 2, 8 and 12 it is found after it ended (its first lobe's run with its
+    // second), replayed whole, and at rest again at once. A motion started on a disturbed
+    // desk is held until its velocity stands out of the disturbance's: at the replay's end
+    // it does not, but at the replayed blocks' ends it did, so it is a hand's. They end 6.8,
+    // 1.1 and 4.7 mm off (allowed 7.35); control: judged on the velocity at the replay's
+    // end, each is discarded as the shaking and the cursor never moves (12 mm off).
+    let desk = Shaking {
+        mg: 47.6,
+        hz: 30.0,
+        k: 2,
+        machine: 0.0,
+    };
+    for seed in [2, 8, 12] {
+        let (error, allowed) = stroke_on_a_shaking_desk(desk, 0.012, 1.6, seed);
+        assert!(
+            error <= allowed,
+            "draw {seed}: {error:.1} mm off, allowed {allowed:.1}"
+        );
+    }
+}
+
+#[test]
+fn a_machine_starting_up_does_not_move_a_resting_cursor() {
+    // A quieter sensor (3.4 LSB a sample, 214 ug/sqrt(Hz)); a machine of 48 mg starts on the
+    // desk (ramped in over 0.2 s) and runs for a minute: at 30 Hz (draw 2) and at 35 Hz
+    // (draw 0) the cursor moves by at most a count (0.032 mm). While it spins up the
+    // disturbance is not measured yet: the hand-band residual shows a tick 40 ms after it
+    // (the filter's centre), while the fast start test sees it within a millisecond. A
+    // motion found within a tick is made unproven at a tick's end that shows the desk
+    // disturbed, while none of it has been delivered; control: judged at its start alone,
+    // 0.11 and 0.07 mm (3.5 and 2.2 counts).
+    for (hz, seed) in [(30.0, 2), (35.0, 0)] {
+        let desk = Shaking {
+            mg: 48.0,
+            hz,
+            k: 1,
+            machine: 2.0,
+        };
+        let (moved, _) = stroke_on_a_shaking_desk(desk, 0.0, 60.0, seed);
+        assert!(moved <= 0.0318, "{hz} Hz, draw {seed}: {moved:.3} mm");
+    }
+}
+
 #[test]
 fn a_slow_stroke_whose_lobes_each_fall_short_of_the_alarm_arrives_from_the_two_together() {
     // The same noise as above (a tick's mean 1.2 LSB sd). An 8 mm stroke over 1 s peaks at

@@ -109,7 +109,9 @@ def derive(d, fs):
     for k in range(BINS - 1):
         put("bin_ratio", 4 * math.sin(math.pi * edge(k + 1) / f_t) ** 2, k)
     windows = [quiet, sub[0] * block, sub[1] * block, (land // 3) * block]
-    tests = [lambda x: boxcar(l1, x) * boxcar(l2, x)] + [
+    # The hand-band filter summed over any run of ticks: a sinusoid at x cycles a tick sums
+    # to at most 1 / |sin(pi x)| of its amplitude.
+    tests = [lambda x: boxcar(l1, x) * boxcar(l2, x) / max(abs(math.sin(math.pi * x)), 1e-12)] + [
         (lambda n: lambda x: boxcar(n, x))(n) for n in windows]
     step = f_t / max(windows + [l1]) / 64
     sample_box = lambda f: boxcar(tick, f / fs)
@@ -129,7 +131,7 @@ def derive(d, fs):
             w = fs / (2 * math.pi * f)
             vel = max(vel, w / (tick * s))
             disp = max(disp, w * w / (tick * s))
-        for name, v in zip(["gain_band", "gain_quiet", "gain_sub_short", "gain_sub_long",
+        for name, v in zip(["gain_band_run", "gain_quiet", "gain_sub_short", "gain_sub_long",
                             "gain_land"], best):
             put(name, v, b)
         put("gain_velocity", vel, b)

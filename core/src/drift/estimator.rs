@@ -30,7 +30,13 @@
 //! than the disturbance's estimate follows; a ring) may be the disturbance itself: it is held
 //! until its velocity stands out of what the velocity test explains (the disturbance's
 //! velocity allowed for), and discarded if it stops first. A hand's stroke outruns a
-//! vibration's velocity (2.6 mm/s at 50 mg and 30 Hz) within tens of milliseconds.
+//! vibration's velocity (2.6 mm/s at 50 mg and 30 Hz) within tens of milliseconds. Its
+//! replay counts: a stroke found after it ended (a slow one's two lobes together) is at rest
+//! again when it starts, but its velocity stood out at a replayed block's end, so it is a
+//! hand's ([`super::rest`]). And a motion found within a tick, before a tick's end could
+//! show the desk disturbed, is made unproven at the first tick's end that does, while its
+//! hold has delivered nothing of it: the hand-band residual that measures the disturbance
+//! is centred 40 ms back, and a machine spinning up starts the fast test first.
 //!
 //! # A glide that fades
 //! A glide's velocity is stopped once its uncertainty has grown past it (a 10 mm/s glide 1.5 s
@@ -340,6 +346,14 @@ impl Detector {
         velocity: [i64; 3],
         shadow: Option<[i64; 3]>,
     ) -> Action {
+        // A motion found within a tick, before its end could show the desk disturbed (a
+        // machine starting up: a burst), is the disturbance's as much as one found at a tick's
+        // end: unproven while nothing of it has been delivered.
+        if self.click.hold_left > 0 && !self.motion.unproven {
+            self.motion.unproven = self.disturbance[..2]
+                .iter()
+                .any(|d| d.amp_q16 > 0 || d.burst);
+        }
         let chi2 = self.quiet_chi2(s, bias, s.fade_chi2_q8);
         let quiet = chi2 <= s.chi2_q8;
         self.motion.calm_run = if chi2 > s.fade_chi2_q8 {

@@ -618,13 +618,15 @@ impl Drift {
             win(sub_blocks[1] * block),
             win(land_blocks / 3 * block),
         );
-        let tests: [&dyn Fn(f64) -> f64; 5] = [
-            &|x| boxcar(l1, x) * boxcar(l2, x),
-            &win(quiet_ticks),
-            &sub0,
-            &sub1,
-            &land,
-        ];
+        // A sinusoid at x cycles a tick sums over any run of ticks to at most 1 / |sin(pi x)|
+        // of its amplitude (rest.rs); x = 0 is never a sinusoid's residue here (the tick's
+        // boxcar nulls the tick rate's aliases, and with one sample a tick they lie past
+        // Nyquist), the guard only keeps the grid's first point finite.
+        let band_run = |x: f64| {
+            let s = libm::sin(core::f64::consts::PI * x).abs().max(1e-12);
+            boxcar(l1, x) * boxcar(l2, x) / s
+        };
+        let tests: [&dyn Fn(f64) -> f64; 5] = [&band_run, &win(quiet_ticks), &sub0, &sub1, &land];
         let los: [f64; noise::BINS] = core::array::from_fn(edge);
         let longest = (sub_blocks[1] * block)
             .max(land_blocks / 3 * block)
@@ -633,7 +635,7 @@ impl Drift {
         let aliased = gains::aliased_maxima(fs, tick, longest, los, tests);
         let gains: [noise::Gains; noise::BINS] = core::array::from_fn(|k| {
             let lo = los[k];
-            let [band, quiet, sub0, sub1, land] = aliased[k];
+            let [band_run, quiet, sub0, sub1, land] = aliased[k];
             // A sinusoid of tick-sum amplitude A at f has a per-sample amplitude of at most
             // A / (D |box(f)|), a velocity amplitude of that times fs / (2 pi f) and a
             // displacement amplitude times (fs / 2 pi f)^2 (in samples); up to 0.8 of the tick
@@ -646,7 +648,7 @@ impl Drift {
                 w * w / (f64::from(tick) * sample_box(f).max(1e-3))
             });
             noise::Gains {
-                band_q16: q16(band),
+                band_run_q16: q16(band_run),
                 quiet_q16: q16(quiet),
                 sub_q16: [q16(sub0), q16(sub1)],
                 land_q16: q16(land),
@@ -740,7 +742,7 @@ impl DriftSettings {
             f("bin_ratio", i, q16(r));
         }
         for (i, g) in self.gains.iter().enumerate() {
-            f("gain_band", i, q16(g.band_q16));
+            f("gain_band_run", i, q16(g.band_run_q16));
             f("gain_quiet", i, q16(g.quiet_q16));
             f("gain_sub_short", i, q16(g.sub_q16[0]));
             f("gain_sub_long", i, q16(g.sub_q16[1]));
@@ -1022,8 +1024,11 @@ impl Detector {
         shadow: Option<[i64; 3]>,
     ) -> Action {
         self.stream.close_tick(s);
-        for (a, d) in self.disturbance.iter_mut().enumerate() {
+        // (A plain range: the array's iterator is not unrolled with this body.)
+        for a in 0..3 {
+            let d = &mut self.disturbance[a];
             d.update(s, &self.stream, a);
+            d.shaken = (d.shaken << 1) | u64::from(d.amp_q16 > 0 || d.burst);
         }
         if let Some(l) = s.lift {
             self.lift.update(&l, &self.stream);
@@ -1060,7 +1065,7 @@ impl Detector {
     pub(crate) fn enter_still(&mut self) {
         self.enter(State::Still);
         self.real_end = self.stream.ticks();
-        self.learn = noise::Learn::default();
+        self.learn.restart();
         self.tilt = tilt::Tilt::default();
         self.rest.reset(self.stream.ticks());
         self.rest.no_headroom_test();

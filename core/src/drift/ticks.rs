@@ -12,8 +12,9 @@
 //! tick sums through two boxcars in cascade, of `L1 = 1 / knock_hz` and `L2 = 2 / (3
 //! knock_hz)` (whole ticks; 50 ms and 35 ms at 20 Hz): a trapezoid with nulls at `knock_hz`
 //! and `1.5 knock_hz` and their multiples, unity gain at DC, a delay of `(L1 + L2 - 2) / 2`
-//! ticks. Its largest gain above `knock_hz` (with the tick's own boxcar) is computed at
-//! validation: 0.06 at 20 Hz, 5 ms ticks, 3 kHz; 50 mg of vibration leaves 3 mg.
+//! ticks. Its largest gain above `knock_hz` (with the tick's own boxcar) is 0.03 at 20 Hz,
+//! 5 ms ticks, 3 kHz: 50 mg of vibration leaves 1.5 mg a tick. What that can add to the slow
+//! start test's runs is computed at validation ([`super::rest`]).
 //!
 //! ```text
 //! F1[t] = sum_{j < L1} s[t-j]          (running: + s[t] - s[t-L1])

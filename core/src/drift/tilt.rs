@@ -567,7 +567,10 @@ impl Detector {
             return Action::None;
         }
         let old: [u32; 3] = core::array::from_fn(|a| self.stream.code(REPLAY as u64, a));
-        self.learn.push(s, &mut self.noise, old, bias);
+        // That tick closed REPLAY - 1 ticks before the last.
+        let d = &self.disturbance;
+        let shaken = [0, 1, 2].map(|a| d[a].shaken >> (REPLAY - 1) & 1 != 0);
+        self.learn.push(s, &mut self.noise, old, bias, shaken);
         let Some(max) = s.bias_samples_max else {
             return Action::None;
         };
