@@ -350,9 +350,7 @@ impl Detector {
         // machine starting up: a burst), is the disturbance's as much as one found at a tick's
         // end: unproven while nothing of it has been delivered.
         if self.click.hold_left > 0 && !self.motion.unproven {
-            self.motion.unproven = self.disturbance[..2]
-                .iter()
-                .any(|d| d.amp_q16 > 0 || d.burst);
+            self.motion.unproven = self.shaken_xy();
         }
         let chi2 = self.quiet_chi2(s, bias, s.fade_chi2_q8);
         let quiet = chi2 <= s.chi2_q8;

@@ -1028,7 +1028,7 @@ impl Detector {
         for a in 0..3 {
             let d = &mut self.disturbance[a];
             d.update(s, &self.stream, a);
-            d.shaken = (d.shaken << 1) | u64::from(d.amp_q16 > 0 || d.burst);
+            d.shaken = (d.shaken << 1) | u64::from(d.disturbed());
         }
         if let Some(l) = s.lift {
             self.lift.update(&l, &self.stream);
@@ -1069,6 +1069,11 @@ impl Detector {
         self.tilt = tilt::Tilt::default();
         self.rest.reset(self.stream.ticks());
         self.rest.no_headroom_test();
+    }
+
+    /// Whether the desk is disturbed now on X or Y (the start tests' axes).
+    pub(crate) fn shaken_xy(&self) -> bool {
+        self.disturbance[0].disturbed() || self.disturbance[1].disturbed()
     }
 
     /// Ticks since the current state was entered.

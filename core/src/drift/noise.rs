@@ -478,6 +478,11 @@ impl Disturbance {
             .min(u128::from(u64::MAX)) as u64
     }
 
+    /// Whether the desk is disturbed on this axis now: an amplitude measured, or a burst.
+    pub(crate) const fn disturbed(&self) -> bool {
+        self.amp_q16 > 0 || self.burst
+    }
+
     /// This disturbance with another amplitude (at its frequency).
     pub(crate) fn with_amplitude(&self, amp_q16: u64) -> Self {
         Self { amp_q16, ..*self }

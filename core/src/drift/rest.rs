@@ -419,9 +419,7 @@ impl Detector {
         let latent = self.take_latent(s, onset, bias);
         // A disturbed device's velocity at the onset is the disturbance's, not zero: the one
         // whose integral over the rest before averages to zero (ticks.rs). Only from rest.
-        let disturbed = self.disturbance[..2]
-            .iter()
-            .any(|d| d.amp_q16 > 0 || d.burst);
+        let disturbed = self.shaken_xy();
         let pre = u64::from(s.pre_blocks) * u64::from(s.block);
         // At rest since before the pre-window: still, or only after motions that were
         // discarded (the disturbance's own).
