@@ -57,6 +57,8 @@ fn agrees(name: &str, core: f64, want: f64) -> bool {
         "dist_margin" | "dist_margin_short" | "burst_k2" | "kappa" | "lobe" | "k2" | "chi2"
         | "fade_chi2" | "inflation" | "lift_k2" => (core - want).abs() <= Q8 + 1e-9,
         "bin_ratio" | "lift_mount" | "lift_two_g" => (core - want).abs() <= Q16 + 1e-12,
+        // Q32: half its step.
+        "alias" => (core - want).abs() <= 0.5 / 4_294_967_296.0 + 1e-15,
         "gain_band_run" | "gain_quiet" | "gain_sub_short" | "gain_sub_long" | "gain_land"
         | "gain_velocity" => core >= want * (1.0 - 2e-3) - Q16 && core <= want * (1.0 + 1e-4) + Q16,
         "gain_displacement" => {

@@ -187,6 +187,14 @@ def derive(d, fs):
     # Gravity at rest in LSB, twice, for the configuration's scale (10 g over 12 bits).
     put("lift_two_g", 2 * 4096 / 10)
     put("bias_samples_max", max(rnd(d["bias_tau_s"] * fs), 1))
+    # The hand's band output is compared with its values over the filter's span: the block
+    # ends at least l1 + l2 - 1 ticks back (one more for the block under way), at most the
+    # eight kept.
+    put("band_lag", min(-(-(l1 + l2 - 1) // block) + 1, 8))
+    # What sampling leaves of a minimum-jerk stroke's velocity per unit of its peak: its two
+    # jerk steps (32 v / D^2 each) alias by at most a step / (12 fs^2), for the shortest
+    # stroke a hand below knock_hz / 2 makes, D = 2 / knock_hz.
+    put("alias", 2 * 32 / 12 / (2 / d["knock_hz"] * fs) ** 2)
     put("freeze", rnd(d["click_freeze_s"] * fs))
     put("arl_ticks", rnd(d["false_start_hours"] * 3600 / tick_s))
     return out

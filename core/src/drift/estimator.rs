@@ -78,6 +78,16 @@
 //! their target, 6 with the direction test). A faded glide's velocity is resumed by any
 //! motion: its ramp down, or the hand speeding up again.
 //!
+//! # What sampling leaves
+//! A minimum-jerk stroke's acceleration starts and ends with a jerk step of `32 v / D^2`
+//! (`v` its peak velocity, `D` its duration). The samples' sum is the integral plus the
+//! spectrum at the multiples of `fs` (Poisson's summation), and a step `J` puts `J / (2 pi
+//! f)^2` there: at most `J / (12 fs^2)` in all, so a stroke can end with `16 v / (3 (D
+//! fs)^2)` of velocity that no noise explains (a 96 mm stroke over 0.21 s at 100 Hz: 10.7
+//! mm/s, 10 sd of the noise's). The velocity test allows for it per axis, at the shortest
+//! stroke a hand makes below `knock_hz / 2`, `D = 2 / knock_hz` (0.1 s): 5.3 % of the
+//! motion's top speed (at block ends) at 100 Hz, 0.006 % at 3 kHz.
+//!
 //! # The end's bridge
 //! A motion that decelerated to rest ends with a velocity `V` that is error: the noise's
 //! random walk and the zero's error, both from zero at the onset. Given that end value, the
@@ -125,6 +135,9 @@ pub struct Motion {
     /// The bridge's corrections made so far to this motion (at the stops of the motions it
     /// resumes) [`Z = 4 S` units].
     corrected: [i128; 2],
+    /// What sampling can have left of its velocity: its largest speed at a block's end times
+    /// `alias` ([`DriftSettings`]), per horizontal axis [`V`, Q16 counts times samples].
+    alias: [u64; 2],
 }
 
 /// A faded glide's velocity, waiting for the next motion.
@@ -153,6 +166,7 @@ impl Motion {
         if !resumes {
             self.travel = [0; 2];
             self.corrected = [0; 2];
+            self.alias = [0; 2];
         }
     }
 
@@ -177,9 +191,12 @@ impl Motion {
     }
 
     /// A block ended with the velocities `w` (`W`): its share of the travel.
-    fn travelled(&mut self, w: [i64; 2]) {
-        for (t, w) in self.travel.iter_mut().zip(w) {
+    fn travelled(&mut self, w: [i64; 2], alias_q32: u64) {
+        for ((t, m), w) in self.travel.iter_mut().zip(&mut self.alias).zip(w) {
             *t = t.saturating_add(w);
+            // |W| / 2 < 2^63, times a Q32 below 2^32: below 2^127.
+            let alias = (u128::from(w.unsigned_abs() / 2) * u128::from(alias_q32)) >> 32;
+            *m = (*m).max(alias as u64);
         }
     }
 
@@ -284,11 +301,12 @@ impl Detector {
         n: u64,
         nb: u64,
     ) -> bool {
+        let allow = self.velocity_allowance(s);
         explained_2d(
             s.chi2_q8,
             [velocity[0] / 2, velocity[1] / 2],
             [0, 1].map(|a| self.noise[a].var(n, nb)),
-            self.velocity_allowance(s),
+            [0, 1].map(|a| allow[a].saturating_add(self.motion.alias[a])),
         )
     }
 
@@ -359,8 +377,10 @@ impl Detector {
         } else {
             self.motion.calm_run + 1
         };
-        let explained =
-            self.velocity_explained(s, velocity, self.motion.samples, self.bias_samples);
+        // Every use of the velocity test below is with the quiet one, but for a motion still
+        // unproven: not computed otherwise (two 128-bit variances, most ticks of a stroke).
+        let explained = (quiet || self.motion.unproven)
+            && self.velocity_explained(s, velocity, self.motion.samples, self.bias_samples);
         // A tilt's shadow: the end that comes first decides, one the data tell from the other
         // ([`super::tilt`]).
         if let Some(w) = shadow {
@@ -418,7 +438,8 @@ impl Detector {
             };
         }
         if self.stream.block_closed() {
-            self.motion.travelled([velocity[0], velocity[1]]);
+            self.motion
+                .travelled([velocity[0], velocity[1]], s.alias_q32);
             return self.tilt_block(s, bias);
         }
         Action::None
@@ -477,7 +498,7 @@ mod tests {
     fn a_resumed_motion_is_corrected_for_its_whole_span_less_what_was_corrected() {
         let mut m = Motion::default();
         m.begin(100, false);
-        m.travelled([50, 0]);
+        m.travelled([50, 0], 0);
         // -(-10) x 100 = 1000 along +X: forward, made.
         assert_eq!(m.bridge([-10, 0]), [1000, 0]);
         // Resumed: 200 samples, -6 left: 1200 in all, 200 more.
@@ -488,7 +509,7 @@ mod tests {
         assert_eq!(m.bridge([2, 0]), [0, 0]);
         // A fresh motion starts from no correction and its own travel.
         m.begin(100, false);
-        m.travelled([-50, 0]);
+        m.travelled([-50, 0], 0);
         assert_eq!(m.bridge([2, 0]), [-200, 0]);
     }
 

@@ -464,6 +464,13 @@ pub struct DriftSettings {
     /// The longest calm a hand's motion has: the longest glide and the longest stroke
     /// [ticks] ([`estimator`]).
     pub(crate) calm_max: u32,
+    /// What sampling at `fs` can leave of a hand's stroke's velocity, per unit of its peak
+    /// velocity (Q32): `16 / (3 (D fs)^2)` for the shortest stroke `D = 2 / knock_hz`
+    /// ([`estimator`]).
+    pub(crate) alias_q32: u64,
+    /// The block ends back over which the hand's band output is compared: the filter's span
+    /// `L1 + L2 - 1` ticks and the block under way, at most `BAND_PAST`.
+    pub(crate) band_lag: u32,
     /// The disturbance's average: `2^dist_shift` ticks; its margin over the noise (Q8).
     pub(crate) dist_shift: u32,
     pub(crate) dist_margin_q8: u64,
@@ -674,6 +681,10 @@ impl Drift {
             early_stride: (fs_hz / 1000).max(1),
             block,
             dist_shift,
+            alias_q32: {
+                let d = 2.0 / self.knock_hz * fs;
+                round(16.0 / 3.0 / (d * d) * 4_294_967_296.0)
+            },
             dist_margin_q8: round(dist_margin * 256.0),
             dist_margin_short_q8: round(dist_margin_short * 256.0),
             burst_k2_q8: round(t.disturbance_sigmas * t.disturbance_sigmas * 256.0),
@@ -687,6 +698,7 @@ impl Drift {
             calm_max: round((self.glide_max_s + self.stroke_max_s) / tick_s)
                 .min(u64::from(u32::MAX)) as u32,
             band: [l1, l2],
+            band_lag: ((l1 + l2 - 1).div_ceil(block) + 1).min(ticks::BAND_PAST as u32),
             lobe_slack: round(0.385 / 1.5 * self.stroke_max_s / tick_s) as u32 + l1 + l2,
             band_delay: (l1 + l2 - 2) / 2,
             sub_blocks,
@@ -787,6 +799,8 @@ impl DriftSettings {
         if let Some(b) = self.bias_samples_max {
             f("bias_samples_max", 0, b as f64);
         }
+        f("band_lag", 0, n(self.band_lag));
+        f("alias", 0, self.alias_q32 as f64 / 4_294_967_296.0);
         f("freeze", 0, n(self.freeze));
         f("arl_ticks", 0, self.arl_ticks as f64);
     }
@@ -1024,10 +1038,20 @@ impl Detector {
         shadow: Option<[i64; 3]>,
     ) -> Action {
         self.stream.close_tick(s);
+        let moving = self.state == State::Moving;
+        if moving && self.stream.block_closed() {
+            self.stream.band_span_refresh(s, bias);
+        }
         // (A plain range: the array's iterator is not unrolled with this body.)
         for a in 0..3 {
+            // While a hand moves, its own content past the filter is not the desk's.
+            let hand = if moving && a < 2 {
+                self.stream.hand_band(a)
+            } else {
+                0
+            };
             let d = &mut self.disturbance[a];
-            d.update(s, &self.stream, a);
+            d.update(s, &self.stream, a, hand);
             d.shaken = (d.shaken << 1) | u64::from(d.disturbed());
         }
         if let Some(l) = s.lift {

@@ -51,8 +51,29 @@
 //! the noise by the same margin's number of sd (3; a **burst**: a knock's first ring, a machine starting up
 //! faster than any average follows) sets `A` at least to that residual's size for that tick.
 //!
-//! A brisk stroke's own content near 10 Hz leaks into the residual (the filter passes 10 Hz
-//! at about 0.6): its disturbance is counted too, which only widens the tests while it lasts.
+//! # The hand's own residual
+//! A hand's motion leaks into the residual too, most where its acceleration has a kink: a
+//! minimum-jerk stroke starts and ends with a jerk step, and a zigzag's legs meet at rest
+//! with two lobes of one sign either side of a zero. Counted as the desk's, that leak
+//! widened the quiet and velocity tests by the hand's own acceleration: a new user's zigzag
+//! stopped at a turn while its next leg was under way at 1 m/s^2, and that leg started late,
+//! from zero velocity (six legs at 300 ug/sqrt(Hz): 49 to 128 mm off in 12 of 12 draws). Where
+//! the acceleration is convex over the filter's span (a kink from rest, a turn) the
+//! trapezoid's non-negative taps give an output at least the centre's value (Jensen's
+//! inequality), so the residual is no larger than the band output `F` (equal just before a
+//! kink); a 10 Hz sinusoid leaks 0.92 of it. So while a motion is under way, a tick whose
+//! residual is within `F` (plus a burst's margin for the noise) is the hand's and is not
+//! taken into the averages, nor as a burst, when the hand dominates: `F` stands out of its
+//! own noise by the burst margin (`hand_r`), and `F^2` exceeds the residual's long average
+//! `P`. Without the second, a slow stroke on a vibrating desk (its `F` a tenth of the
+//! vibration's residual) left out the ticks where the vibration crossed zero and kept its
+//! crests, and the measured amplitude rose until the stroke never stopped; and a tick
+//! counted before the hand's output caught up (a stroke's first residual against a tilt's
+//! stale offset) would be held for the whole motion. With it, an amplitude above the hand's
+//! is measured again and forgotten. `F` is the most the band output differs from its value
+//! at the motion's zero and from its values at the block ends over the filter's span (a
+//! tilt's offset, which the zero does not hold, cancels in the second; with the first alone
+//! a six-leg zigzag's draws 4, 6 and 9 of 16 still missed), on the horizontal axes.
 //!
 //! # Its frequency
 //! What a sinusoid can fake depends on its frequency (a velocity amplitude of `A / (2 pi f)`
@@ -356,6 +377,9 @@ pub struct Disturbance {
     /// The residual a burst exceeds, `floor(sqrt(floor(E k^2 / 2^32)))` [LSB (L1 L2)]: `r^2 >
     /// N` exactly when `|r| > floor(sqrt(N))`, so a tick compares, not squares, in 128 bits.
     burst_r: u64,
+    /// The band output a hand's stands out of the noise by, `floor(sqrt(floor(E_F k^2 /
+    /// 2^32)))` [LSB (L1 L2)], `E_F` the output's noise-only variance (Q32).
+    hand_r: u64,
     /// The powers at or below which the excess is zero, so that a tick at rest decides it
     /// in 64 bits: `[long, upper, lower]` (see [`Quiet`]).
     quiet: Quiet,
@@ -434,6 +458,11 @@ impl Disturbance {
             }
         }
         c[s.band_delay as usize] += l;
+        // The band output's taps: the trapezoid's.
+        let mut w = [0i128; super::RING];
+        for (k, w) in w.iter_mut().enumerate().take(taps) {
+            *w = -c[k] + if k == s.band_delay as usize { l } else { 0 };
+        }
         let mut dc = [0i128; super::RING];
         for k in 0..=taps {
             dc[k] = c[k] - if k > 0 { c[k - 1] } else { 0 };
@@ -457,6 +486,12 @@ impl Disturbance {
             margin_q32: expect_q32.map(margin),
             burst_r: crate::math::isqrt_u128(
                 (expect_q32[0].saturating_mul(u128::from(s.burst_k2_q8)) >> 8) >> 32,
+            ) as u64,
+            hand_r: crate::math::isqrt_u128(
+                (var_of_taps(&w[..taps], cov).max(0) as u128)
+                    .saturating_mul(u128::from(s.burst_k2_q8))
+                    >> 8
+                    >> 32,
             ) as u64,
             quiet: Quiet::new(expect_q32[0], margin(expect_q32[0]), s.dist_margin_short_q8),
             last: 0,
@@ -493,13 +528,25 @@ impl Disturbance {
         &s.gains[usize::from(self.bin)]
     }
 
-    /// Takes the tick just closed on `axis`.
-    pub(crate) fn update(&mut self, s: &DriftSettings, stream: &TickStream, axis: usize) {
+    /// Takes the tick just closed on `axis`; `hand`, while a motion is under way, the band
+    /// output at the residual's centre ([`TickStream::hand_band`]): a residual the hand's
+    /// own can explain is not the desk's (see the module docs).
+    pub(crate) fn update(
+        &mut self,
+        s: &DriftSettings,
+        stream: &TickStream,
+        axis: usize,
+        hand: u64,
+    ) {
         let r = stream.band_residual(s, axis);
         let diff = r - core::mem::replace(&mut self.last, r);
+        let hand = hand > self.hand_r
+            && (hand >= 1 << 32 || hand * hand > self.power[0])
+            && r.unsigned_abs() <= hand + self.burst_r;
+
         // r^2 2^32 > E k^2 as r^2 > floor(E k^2 / 2^32), as |r| > its floored root: the same
         // test, its bound fixed.
-        self.burst = r.unsigned_abs() > self.burst_r;
+        self.burst = !hand && r.unsigned_abs() > self.burst_r;
         let l = u64::from(s.band[0] * s.band[1]);
         // A burst's own amplitude, until the averages catch up (Q16 LSB per tick sum).
         let burst_q16 = if self.burst {
@@ -509,13 +556,15 @@ impl Disturbance {
             0
         };
         let k = s.dist_shift;
-        for ((p, x), k) in self.power.iter_mut().zip([r, diff, r]).zip([k, k, k - 2]) {
-            let x2 = x.unsigned_abs().min(u64::from(u32::MAX)).pow(2);
-            *p = if x2 >= *p {
-                *p + ((x2 - *p) >> k)
-            } else {
-                *p - ((*p - x2) >> k)
-            };
+        if !hand {
+            for ((p, x), k) in self.power.iter_mut().zip([r, diff, r]).zip([k, k, k - 2]) {
+                let x2 = x.unsigned_abs().min(u64::from(u32::MAX)).pow(2);
+                *p = if x2 >= *p {
+                    *p + ((x2 - *p) >> k)
+                } else {
+                    *p - ((*p - x2) >> k)
+                };
+            }
         }
         // At rest the excess is zero: the upper bound at or below E, or neither the long
         // average nor the short one's lower bound above theirs. Decided in 64 bits.

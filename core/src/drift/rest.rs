@@ -432,6 +432,7 @@ impl Detector {
             None
         };
         self.enter(State::Moving);
+        self.stream.band_span_refresh(s, bias);
         let samples = blocks * u64::from(s.block) * u64::from(s.tick)
             + u64::from(self.stream.samples_in_block());
         self.motion.begin(

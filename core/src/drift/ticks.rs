@@ -38,6 +38,9 @@ use crate::integrator::BlockSums;
 
 use super::{DriftSettings, BLOCKS, RING};
 
+/// Block ends at which the band output is kept ([`TickStream::hand_band`]).
+pub const BAND_PAST: usize = 8;
+
 /// One axis's integrated-sample sums over one block, compact ([`BlockSums`] without the
 /// block's length, first and last samples: the length is the stream's, the replay does not
 /// need the first, and the last is kept apart, in 32 bits).
@@ -107,6 +110,12 @@ pub struct TickStream {
     cur_block: OpenBlock,
     block_ticks: u32,
     band: [Band; 3],
+    /// The horizontal axes' `F2` at the last [`BAND_PAST`] blocks' ends, by block index
+    /// modulo it ([`Self::hand_band`]).
+    band_past: [[u64; 2]; BAND_PAST],
+    /// The least and the greatest of the horizontal axes' `F2` at the last `band_lag` block
+    /// ends, and its value at the zero: `[axis][lo, hi, zero]` ([`Self::hand_band`]).
+    band_span: [[u64; 3]; 2],
     ticks: u64,
     blocks_done: u64,
     block_closed: bool,
@@ -143,6 +152,8 @@ impl TickStream {
             cur_n: 0,
             cur_block: OpenBlock::default(),
             block_ticks: 0,
+            band_past: [[band[0].f2, band[1].f2]; BAND_PAST],
+            band_span: [[band[0].f2; 3], [band[1].f2; 3]],
             band,
             ticks: 0,
             blocks_done: 0,
@@ -195,6 +206,8 @@ impl TickStream {
                 };
                 self.lasts[i][a] = last_u32(b.last[a]);
             }
+            self.band_past[(self.blocks_done % BAND_PAST as u64) as usize] =
+                [self.band[0].f2, self.band[1].f2];
             self.cur_block = OpenBlock::default();
             self.blocks_done += 1;
             self.block_ticks = 0;
@@ -261,6 +274,36 @@ impl TickStream {
         // F2 < 2^40 (L1 L2 <= 31^2 ticks of 2^14 16-bit codes): shifted, 2^56.
         let f = ((self.band[axis].f2 as i64) << 16) - l * i64::from(s.tick) * bias;
         crate::math::div_round(f, l)
+    }
+
+    /// Takes what [`Self::hand_band`] compares with: the band output's least and greatest
+    /// over the last `s.band_lag` block ends, and its value at the zeros `bias` (Q16 LSB per
+    /// sample) of the horizontal axes. While a motion is under way: at its start and at each
+    /// block's end (the zeros change only at a shadow's or a tilt's decision).
+    pub(crate) fn band_span_refresh(&mut self, s: &DriftSettings, bias: [i64; 3]) {
+        let l = u64::from(s.band[0] * s.band[1]) * u64::from(s.tick);
+        for (a, span) in self.band_span.iter_mut().enumerate() {
+            // L1 L2 D < 2^24 and a zero below 2^32 (a 16-bit code in Q16): below 2^56.
+            let zero = (l * bias[a].clamp(0, u32::MAX.into()) as u64) >> 16;
+            *span = [zero; 3];
+            for k in 1..=u64::from(s.band_lag) {
+                let i = (self.blocks_done.wrapping_sub(k) % BAND_PAST as u64) as usize;
+                let f = self.band_past[i][a];
+                span[0] = span[0].min(f);
+                span[1] = span[1].max(f);
+            }
+        }
+    }
+
+    /// The hand's band output on horizontal `axis` [LSB, times `L1 L2`]: the most the
+    /// filter's output differs from its value at the zero and from its values at the last
+    /// `s.band_lag` block ends (at least the filter's span back, so that they share no
+    /// tick). The first is a hand's acceleration; the second is its change, in which an
+    /// offset the zero does not hold (a tilt's) cancels.
+    pub(crate) fn hand_band(&self, axis: usize) -> u64 {
+        let f = self.band[axis].f2;
+        let [lo, hi, zero] = self.band_span[axis];
+        f.abs_diff(lo).max(f.abs_diff(hi)).max(f.abs_diff(zero))
     }
 
     /// The hand-band residual of `axis`: `L1 L2 s[t - delay] - F2[t]`, the tick sum at the
