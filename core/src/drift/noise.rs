@@ -448,21 +448,17 @@ impl Disturbance {
     pub(crate) fn new(s: &DriftSettings, cal: &Calibration) -> Self {
         let [l1, l2] = s.band.map(|l| l as usize);
         let l = (l1 * l2) as i128;
-        // The residual's taps: minus the trapezoid, plus L1 L2 at the centre; its first
-        // difference's, one longer.
+        // The band output's taps (the trapezoid's); the residual's: minus those, plus L1 L2
+        // at the centre; its first difference's, one longer.
         let taps = l1 + l2 - 1;
-        let mut c = [0i128; super::RING];
+        let mut w = [0i128; super::RING];
         for i in 0..l1 {
             for j in 0..l2 {
-                c[i + j] -= 1;
+                w[i + j] += 1;
             }
         }
+        let mut c = w.map(|w| -w);
         c[s.band_delay as usize] += l;
-        // The band output's taps: the trapezoid's.
-        let mut w = [0i128; super::RING];
-        for (k, w) in w.iter_mut().enumerate().take(taps) {
-            *w = -c[k] + if k == s.band_delay as usize { l } else { 0 };
-        }
         let mut dc = [0i128; super::RING];
         for k in 0..=taps {
             dc[k] = c[k] - if k > 0 { c[k - 1] } else { 0 };
@@ -480,19 +476,18 @@ impl Disturbance {
             var_of_taps(&dc[..=taps], cov).max(0) as u128,
         ];
         let margin = |e: u128| e.saturating_mul(u128::from(s.dist_margin_q8)) >> 8;
+        // The value a tick's output of noise-only variance `e` (Q32) exceeds by the burst's
+        // margin, floored: `|x| > floor(sqrt(floor(e k^2 / 2^32)))` exactly when `x^2 2^32 >
+        // e k^2`.
+        let beyond = |e: u128| {
+            crate::math::isqrt_u128((e.saturating_mul(u128::from(s.burst_k2_q8)) >> 8) >> 32) as u64
+        };
         Self {
             power: [0, 1, 0].map(|i| (expect_q32[i] >> 32).min(u128::from(u64::MAX)) as u64),
             expect_q32,
             margin_q32: expect_q32.map(margin),
-            burst_r: crate::math::isqrt_u128(
-                (expect_q32[0].saturating_mul(u128::from(s.burst_k2_q8)) >> 8) >> 32,
-            ) as u64,
-            hand_r: crate::math::isqrt_u128(
-                (var_of_taps(&w[..taps], cov).max(0) as u128)
-                    .saturating_mul(u128::from(s.burst_k2_q8))
-                    >> 8
-                    >> 32,
-            ) as u64,
+            burst_r: beyond(expect_q32[0]),
+            hand_r: beyond(var_of_taps(&w[..taps], cov).max(0) as u128),
             quiet: Quiet::new(expect_q32[0], margin(expect_q32[0]), s.dist_margin_short_q8),
             last: 0,
             amp_q16: 0,
