@@ -1363,8 +1363,20 @@ fn stroke_arrives(d: f64, dur: f64, deg: f64, seed: u64, k: usize) {
 }
 
 /// Legs `(d m, dur s, deg)` of minimum-jerk strokes back to back after 1 s of rest, with
-/// [`noisy_code`]`(.., k)`'s noise (draw `seed`): how far the cursor ends from the legs' sum,
-/// and the error allowed, max(5 % of the path, 3 floors of the whole) [mm].
+/// [`noisy_code`]`(.., k)`'s noise, in each noise draw of `seeds`: the cursor ends within
+/// max(5 % of the path, 3 floors of the whole) of the legs' sum.
+fn zigzag_arrives(legs: &[(f64, f64, f64)], seeds: impl IntoIterator<Item = u64>, k: usize) {
+    for seed in seeds {
+        let (error, allowed) = zigzag(legs, seed, k);
+        assert!(
+            error <= allowed,
+            "draw {seed}: {error:.1} mm off, allowed {allowed:.1}"
+        );
+    }
+}
+
+/// [`zigzag_arrives`]'s one draw: how far the cursor ends from the legs' sum, and the error
+/// allowed [mm].
 fn zigzag(legs: &[(f64, f64, f64)], seed: u64, k: usize) -> (f64, f64) {
     let lsb = Config::default().m_s2_per_lsb;
     let nd = (11.5 * k as f64).sqrt() * lsb / 1500f64.sqrt();
@@ -1457,13 +1469,7 @@ fn a_zigzag_leg_that_does_not_decelerate_the_stopped_one_starts_from_rest() {
         (0.0188, 0.97, 94.0),
         (0.0131, 0.64, 166.0),
     ];
-    for seed in [4, 6, 7, 8] {
-        let (error, allowed) = zigzag(&legs, seed, 4);
-        assert!(
-            error <= allowed,
-            "draw {seed}: {error:.1} mm off, allowed {allowed:.1}"
-        );
-    }
+    zigzag_arrives(&legs, [4, 6, 7, 8], 4);
 }
 
 /// A desk a machine shakes with `mg` milli-g at `hz` Hz on every axis (phases 0, 1 and 2
@@ -1778,11 +1784,5 @@ fn a_zigzag_turning_at_rest_is_not_taken_for_a_shaking_desk() {
         (0.0483, 0.268, 44.0),
         (0.0177, 0.447, 226.7),
     ];
-    for seed in 1..=4 {
-        let (error, allowed) = zigzag(&legs, seed, 2);
-        assert!(
-            error <= allowed,
-            "draw {seed}: {error:.1} mm off, allowed {allowed:.1}"
-        );
-    }
+    zigzag_arrives(&legs, 1..=4, 2);
 }
