@@ -337,16 +337,14 @@ impl Tracker {
                 }
                 self.shadow = Some(sh);
             }
-            Action::Adopt { stop } => {
+            Action::Adopt => {
                 if let Some(sh) = shadow {
                     self.counters.rebiases += 1;
                     self.counters.discarded += 1;
                     for ((axis, b), st) in self.axes.iter_mut().zip(sh.bias).zip(sh.states) {
                         axis.track_bias_q16(b);
                         axis.set_integrator(st);
-                        if stop {
-                            axis.zero_velocity();
-                        }
+                        axis.zero_velocity();
                     }
                 }
                 self.shadow = None;

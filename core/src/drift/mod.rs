@@ -900,13 +900,9 @@ pub enum Action {
         /// Complete blocks to replay, `0..BLOCKS`.
         blocks: usize,
     },
-    /// The shadow won: its zeros and its motion replace the axes' (the held motion, the
-    /// tilt's runaway, is dropped); with `stop`, at zero velocity. Any other action ends a
-    /// shadow.
-    Adopt {
-        /// The device is at rest: zero velocity.
-        stop: bool,
-    },
+    /// The shadow won at rest: its zeros and its motion replace the axes' (the held motion,
+    /// the tilt's runaway, is dropped), at zero velocity. Any other action ends a shadow.
+    Adopt,
 }
 
 /// Drift-control state of a three-axis device (X, Y horizontal, Z vertical); see the module

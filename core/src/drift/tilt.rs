@@ -52,8 +52,11 @@
 //!   half for a tilt (a 45.5 mm stroke over 1.68 s at 741 ug/sqrt(Hz): 38 mm short in 2 of
 //!   40 noise draws). A pad that goes on settling after the level was taken only adds to
 //!   its tilt: its shadow never goes both ways, and the tilt is confirmed as any (below). If
-//!   neither has won within the longest stroke, the tilt hypothesis wins while the
-//!   acceleration is still one-sided, the motion's otherwise.
+//!   neither has won within the longest stroke, the hand is still moving and neither is
+//!   proven: the shadow ends and the held motion goes on under the hold's tests (a tilt is
+//!   still confirmed once one-sided for long enough, and its held motion dropped). Adopting
+//!   the shadow there, as when the acceleration was one-sided at that moment, took a long
+//!   zigzag's level (a turn's crest, 3 m/s^2) for a tilt and delivered metres at once.
 //! - **A change while held**: held, the three short sub-windows before the last steady
 //!   and significant (a level), and the last not steady with them. Either the pad settled
 //!   and a hand moved it (the stroke would otherwise be dropped with the tilt's runaway when
@@ -527,7 +530,7 @@ impl Detector {
             // A shadow that never went against the tilt was the rest of the tilt (the pad
             // settling onto the level): its zeros, and nothing delivered.
             return Some(if turned {
-                Action::Adopt { stop: true }
+                Action::Adopt
             } else {
                 Action::Rebias {
                     bias: level,
@@ -552,13 +555,10 @@ impl Detector {
             // (a tilt still under way); the held motion goes on as it was.
             return None;
         }
-        let sided = self.one_sided_blocks(s);
-        if sided.iter().any(|&b| b >= s.tilt_blocks[0]) {
-            self.motion.begin(n, false);
-            self.bias_samples = nb;
-            self.tilt.held = false;
-            return Some(Action::Adopt { stop: false });
-        }
+        // A release's shadow that never came to rest: the hand went on moving. Neither
+        // hypothesis is proven, and the shadow's level may be a hand's crest; the held motion
+        // goes on, and the hold's tests judge it from here (a tilt is still confirmed when
+        // one-sided for long enough, and then nothing of it is delivered).
         self.tilt.held = false;
         None
     }
