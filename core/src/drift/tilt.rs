@@ -74,7 +74,12 @@
 //!   still tilted arrived with the rest of the tilt, 2.4 times its length). A stroke a shadow
 //!   carries arrives at once when the shadow wins, after the hand stopped.
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
-//!   stroke is that long. The held motion is dropped and the zeros become the level of the
+//!   stroke is that long. Unless a horizontal axis was significant with both signs within
+//!   that time (at either scale): a tilt leaks gravity along one fixed horizontal direction,
+//!   so neither axis changes sign, while a hand turning does: a circle's acceleration
+//!   rotates, one axis keeps its sign for half a turn (longer than `T_max / 2` for a turn
+//!   slower than 2 s) while the other sweeps from one sign to the other. Confirmed, a circle
+//!   was dropped a third of the way round and its zeros became the hand's level. The held motion is dropped and the zeros become the level of the
 //!   latest steady stretch (three short sub-windows in a row that agree on every axis within
 //!   `K_TILT` sd, the disturbance allowed for; on every axis, since Z moves by `g (1 - cos
 //!   theta)`): if that stretch is the last, Still; if something changed after it (a hand
@@ -132,6 +137,9 @@ pub struct Tilt {
     shadow_signs: u8,
     shadow_two_sided: bool,
     shadow_change: bool,
+    /// Per horizontal axis and sign (negative, positive), the block count (`+ 1`, wrapping;
+    /// 0: never) when a sub-window of either scale was last significant with that sign.
+    seen: [[u32; 2]; 2],
 }
 
 /// Where a shadow began (see the module docs).
@@ -257,9 +265,23 @@ impl Detector {
     }
 
     /// The scale at which the one-sided run is long enough to confirm a tilt (the longer
-    /// first), if any.
+    /// first), if any, and no horizontal axis has turned within that time.
     fn confirmed_scale(&self, s: &DriftSettings) -> Option<usize> {
-        confirmed(s, self.one_sided_blocks(s))
+        confirmed(s, self.one_sided_blocks(s)).filter(|_| !self.turned(s))
+    }
+
+    /// Whether a horizontal axis's sub-windows (of either scale) were significant with both
+    /// signs within the time that confirms a tilt: a tilt leaks gravity along one fixed
+    /// horizontal direction, so neither axis's acceleration changes sign; a hand's turning
+    /// (a circle's, whose acceleration rotates: one axis is one-sided for half a turn while
+    /// the other sweeps from one sign to the other) does.
+    fn turned(&self, s: &DriftSettings) -> bool {
+        let now = self.stream.blocks() as u32;
+        let recent = |seen: u32| seen != 0 && now.wrapping_sub(seen - 1) <= s.tilt_blocks[1];
+        self.tilt
+            .seen
+            .iter()
+            .any(|&[neg, pos]| recent(neg) && recent(pos))
     }
 
     /// Records the sign the short sub-window ending `back` blocks ago took on X and Y when
@@ -279,6 +301,11 @@ impl Detector {
         for scale in 0..2 {
             for (a, &b) in bias.iter().enumerate().take(2) {
                 let sign = self.sub_sign(s, scale, a, 0, b);
+                if sign != 0 {
+                    // The block count's low 32 bits: 2.7 years of blocks before they wrap.
+                    self.tilt.seen[a][usize::from(sign > 0)] =
+                        (self.stream.blocks() as u32).wrapping_add(1);
+                }
                 if scale == 0 && sign != 0 {
                     let first = &mut self.tilt.first[a];
                     if *first == 0 {
@@ -305,7 +332,8 @@ impl Detector {
         }
         let hold = s.tilt_blocks[0];
         let sided = self.one_sided_blocks(s);
-        if let (Some(scale), None) = (confirmed(s, sided), self.tilt.shadow) {
+        let confirmable = confirmed(s, sided).filter(|_| !self.turned(s));
+        if let (Some(scale), None) = (confirmable, self.tilt.shadow) {
             return self.confirm(s, bias, scale);
         }
         let held = self.tilt.wary || sided.iter().any(|&b| b >= hold);
