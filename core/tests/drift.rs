@@ -1271,6 +1271,29 @@ fn noisy_code(n: &mut Noise, mid: f64, k: usize) -> u16 {
     (mid.round() as i32 + v) as u16
 }
 
+/// Feeds sample `i` of a scene: horizontal acceleration `acc` [LSB] on X and Y, none on Z,
+/// with [`noisy_code`]`(.., k)`'s noise; the counts taken every third sample (a 1 kHz poll at
+/// 3 kHz) are added to `pos`.
+fn feed_horizontal(
+    t: &mut Tracker,
+    n: &mut Noise,
+    acc: [f64; 2],
+    k: usize,
+    i: usize,
+    pos: &mut [i64; 2],
+) {
+    let c = [
+        noisy_code(n, 2048.0 + acc[0], k),
+        noisy_code(n, 2048.0 + acc[1], k),
+        noisy_code(n, 2048.0, k),
+    ];
+    t.feed(&[c]);
+    if i % 3 == 2 {
+        let c = t.take_counts();
+        *pos = [pos[0] + i64::from(c[0]), pos[1] + i64::from(c[1])];
+    }
+}
+
 /// Noise draw `seed` of [`wide_code`] and a default tracker calibrated on 1 s of it at
 /// mid-scale.
 fn wide_calibrated(seed: u64) -> (Noise, Tracker) {
@@ -1406,16 +1429,7 @@ fn zigzag(legs: &[(f64, f64, f64)], seed: u64, k: usize) -> (f64, f64) {
             }
             t0 += dur;
         }
-        let c = [
-            noisy_code(&mut n, 2048.0 + acc[0] / lsb, k),
-            noisy_code(&mut n, 2048.0 + acc[1] / lsb, k),
-            noisy_code(&mut n, 2048.0, k),
-        ];
-        t.feed(&[c]);
-        if i % 3 == 2 {
-            let c = t.take_counts();
-            pos = [pos[0] + i64::from(c[0]), pos[1] + i64::from(c[1])];
-        }
+        feed_horizontal(&mut t, &mut n, acc.map(|a| a / lsb), k, i, &mut pos);
     }
     let end = pos.map(|p| p as f64 * 25.4 / 800.0);
     ((end[0] - truth[0]).hypot(end[1] - truth[1]), allowed)
@@ -1908,16 +1922,7 @@ fn circle(r: f64, turns: f64, dur: f64, theta0: f64, seed: u64, k: usize) -> (f6
                 r * (phi.cos() * dw - phi.sin() * w * w),
             ];
         }
-        let c = [
-            noisy_code(&mut n, 2048.0 + acc[0] / lsb, k),
-            noisy_code(&mut n, 2048.0 + acc[1] / lsb, k),
-            noisy_code(&mut n, 2048.0, k),
-        ];
-        t.feed(&[c]);
-        if i % 3 == 2 {
-            let c = t.take_counts();
-            pos = [pos[0] + i64::from(c[0]), pos[1] + i64::from(c[1])];
-        }
+        feed_horizontal(&mut t, &mut n, acc.map(|a| a / lsb), k, i, &mut pos);
     }
     let phi = theta0 + sweep;
     let truth = [
