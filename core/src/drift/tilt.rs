@@ -525,8 +525,8 @@ impl Detector {
     /// While a shadow runs: which end has come (`quiet` and `explained` are the motion's own
     /// stop test's halves, the shadow's are tested here on its zeros and velocities `w`);
     /// `None` to go on (the motion's stop, if it alone passes, is the caller's). While both
-    /// quiet tests pass the data cannot tell the hypotheses apart: it waits. After the longest
-    /// stroke: see the module docs.
+    /// quiet tests pass the data cannot tell the hypotheses apart: it waits, but not past the
+    /// longest stroke. After the longest stroke: see the module docs.
     pub(crate) fn shadow_decision(
         &mut self,
         s: &DriftSettings,
@@ -538,7 +538,12 @@ impl Detector {
         let (level, n, since, certain) = self.tilt.shadow?;
         let nb = 3 * u64::from(s.sub_blocks[0]) * u64::from(s.block) * u64::from(s.tick);
         let shadow_quiet = self.quiet(s, level);
-        if shadow_quiet && quiet && !certain {
+        // Within the longest stroke: a hand at rest after either hypothesis is not yet told
+        // from the other (each may still have a lobe to come). Waiting on for as long as both
+        // stay quiet held a stroke found in its second lobe for 13.8 s while its wrong start
+        // glided, then delivered 575 mm at once.
+        let timed_out = self.stream.ticks() - since >= u64::from(s.land_timeout);
+        if shadow_quiet && quiet && !certain && !timed_out {
             return Some(Action::None);
         }
         let signs = self.tilt.shadow_signs;
@@ -569,7 +574,7 @@ impl Detector {
         if quiet && explained && !certain {
             return None;
         }
-        if self.stream.ticks() - since < u64::from(s.land_timeout) {
+        if !timed_out {
             return Some(Action::None);
         }
         self.tilt.shadow = None;
