@@ -1398,6 +1398,23 @@ fn zigzag_arrives(legs: &[(f64, f64, f64)], seeds: impl IntoIterator<Item = u64>
     }
 }
 
+/// The horizontal acceleration [m/s^2] at `time` [s] of minimum-jerk legs `(d m, dur s,
+/// deg)` back to back from time 0.
+fn legs_acc(legs: &[(f64, f64, f64)], time: f64) -> [f64; 2] {
+    let mut acc = [0f64; 2];
+    let mut t0 = 0.0;
+    for &(d, dur, deg) in legs {
+        let u = (time - t0) / dur;
+        if (0.0..1.0).contains(&u) {
+            let a = d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u);
+            let r = f64::to_radians(deg);
+            acc = [acc[0] + a * r.cos(), acc[1] + a * r.sin()];
+        }
+        t0 += dur;
+    }
+    acc
+}
+
 /// [`zigzag_arrives`]'s one draw: how far the cursor ends from the legs' sum, and the error
 /// allowed [mm].
 fn zigzag(legs: &[(f64, f64, f64)], seed: u64, k: usize) -> (f64, f64) {
@@ -1417,18 +1434,7 @@ fn zigzag(legs: &[(f64, f64, f64)], seed: u64, k: usize) -> (f64, f64) {
         ];
     }
     for i in 0..((3.5 + total) * 3000.0) as usize {
-        let time = i as f64 / 3000.0 - 1.0;
-        let mut acc = [0f64; 2];
-        let mut t0 = 0.0;
-        for &(d, dur, deg) in legs {
-            let u = (time - t0) / dur;
-            if (0.0..1.0).contains(&u) {
-                let a = d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u);
-                let r = f64::to_radians(deg);
-                acc = [acc[0] + a * r.cos(), acc[1] + a * r.sin()];
-            }
-            t0 += dur;
-        }
+        let acc = legs_acc(legs, i as f64 / 3000.0 - 1.0);
         feed_horizontal(&mut t, &mut n, acc.map(|a| a / lsb), k, i, &mut pos);
     }
     let end = pos.map(|p| p as f64 * 25.4 / 800.0);
@@ -1833,33 +1839,15 @@ fn tilt_then_legs(legs: &[(f64, f64, f64)], seed: u64) -> f64 {
     let lsb = Config::default().m_s2_per_lsb;
     let (mut n, mut t) = noisy_calibrated(seed, 2);
     let total: f64 = legs.iter().map(|l| l.1).sum();
-    let mut x = 0i64;
+    let mut pos = [0i64; 2];
     for i in 0..((1.0 + 0.7 + total + 4.0) * 3000.0) as usize {
         let time = i as f64 / 3000.0 - 1.0;
-        let mut acc = 0.0;
-        let mut t0 = 0.7;
-        for &(d, dur, deg) in legs {
-            let u = (time - t0) / dur;
-            if (0.0..1.0).contains(&u) {
-                acc += d / (dur * dur)
-                    * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u)
-                    * f64::to_radians(deg).cos();
-            }
-            t0 += dur;
-        }
+        let acc = legs_acc(legs, time - 0.7).map(|a| a / lsb);
         let tilt = 14.0 * (time / 0.1).clamp(0.0, 1.0);
-        let c = [
-            noisy_code(&mut n, 2048.0 + tilt + acc / lsb, 2),
-            noisy_code(&mut n, 2048.0, 2),
-            noisy_code(&mut n, 2048.0, 2),
-        ];
-        t.feed(&[c]);
-        if i % 3 == 2 {
-            x += i64::from(t.take_counts()[0]);
-        }
+        feed_horizontal(&mut t, &mut n, [tilt + acc[0], acc[1]], 2, i, &mut pos);
     }
     assert!(t.is_still(), "draw {seed}: {:?}", t.drift_state());
-    x as f64 * 25.4 / 800.0
+    pos[0] as f64 * 25.4 / 800.0
 }
 
 #[test]

@@ -78,9 +78,10 @@
 //!   that time (at either scale): a tilt leaks gravity along one fixed horizontal direction,
 //!   so neither axis changes sign, while a hand turning does: a circle's acceleration
 //!   rotates, one axis keeps its sign for half a turn (longer than `T_max / 2` for a turn
-//!   slower than 2 s) while the other sweeps from one sign to the other. Confirmed, a circle
-//!   was dropped a third of the way round and its zeros became the hand's level. The held motion is dropped and the zeros become the level of the
-//!   latest steady stretch (three short sub-windows in a row that agree on every axis within
+//!   slower than 2 s) while the other sweeps from one sign to the other (confirmed, a
+//!   circle was dropped a third of the way round and its zeros became the hand's level).
+//!   Confirmed, the held motion is dropped and the zeros become the level of the latest
+//!   steady stretch (three short sub-windows in a row that agree on every axis within
 //!   `K_TILT` sd, the disturbance allowed for; on every axis, since Z moves by `g (1 - cos
 //!   theta)`): if that stretch is the last, Still; if something changed after it (a hand
 //!   moved the tilted device), the change goes on as the shadow, which now wins at its end
@@ -267,7 +268,12 @@ impl Detector {
     /// The scale at which the one-sided run is long enough to confirm a tilt (the longer
     /// first), if any, and no horizontal axis has turned within that time.
     fn confirmed_scale(&self, s: &DriftSettings) -> Option<usize> {
-        confirmed(s, self.one_sided_blocks(s)).filter(|_| !self.turned(s))
+        self.confirmable(s, self.one_sided_blocks(s))
+    }
+
+    /// [`Self::confirmed_scale`] for one-sided runs of `sided` blocks already counted.
+    fn confirmable(&self, s: &DriftSettings, sided: [u32; 2]) -> Option<usize> {
+        confirmed(s, sided).filter(|_| !self.turned(s))
     }
 
     /// Whether a horizontal axis's sub-windows (of either scale) were significant with both
@@ -332,8 +338,7 @@ impl Detector {
         }
         let hold = s.tilt_blocks[0];
         let sided = self.one_sided_blocks(s);
-        let confirmable = confirmed(s, sided).filter(|_| !self.turned(s));
-        if let (Some(scale), None) = (confirmable, self.tilt.shadow) {
+        if let (Some(scale), None) = (self.confirmable(s, sided), self.tilt.shadow) {
             return self.confirm(s, bias, scale);
         }
         let held = self.tilt.wary || sided.iter().any(|&b| b >= hold);
