@@ -157,6 +157,34 @@ fn a_pad_settling_onto_the_level_its_shadow_took_is_not_delivered() {
 }
 
 #[test]
+fn a_tilts_shadow_turned_by_noise_is_not_taken_for_a_hand() {
+    // The full families' trials (seeds 1 and 2) in which a tilt's shadow saw a sub-window
+    // against the tilt by 3 to 5 sd of noise before the tilt was confirmed. Kept as a
+    // hand's for that (the test at K_TILT), the shadow came to rest and was adopted: 0.8 to
+    // 2.6 mm arrived 0.68 to 0.90 s after the pad rested. A hand's lobe is taken only
+    // beyond K_TURN (5 sd).
+    for (seed, k) in [(1, 118), (2, 103), (2, 118), (2, 127)] {
+        let dev = families::board_device(Some(Drift::default()), seed);
+        let avg = families::averaging_s(Some(Drift::default()));
+        for r in families::trial(Kind::PadTilts, &dev, k, seed, avg) {
+            assert!(r.second <= 0.5, "seed {seed} trial {k}: {} s", r.second);
+            assert_eq!(r.third, 0.0, "seed {seed} trial {k}: {} m late", r.third);
+        }
+    }
+    // And a hand's: the strokes (seeds 1 to 3) that began 0.12 to 0.57 s after a tilt and
+    // went against it (by more than K_TURN) before the tilt was confirmed, while their
+    // shadow ran. Dropped there, the confirmation's latest steady level was in the stroke
+    // and the stroke was lost or bent (72.5, 37.8 and 4.7 mm off).
+    for (seed, k) in [(1, 41), (2, 20), (3, 190)] {
+        let dev = families::board_device(Some(Drift::default()), seed);
+        let avg = families::averaging_s(Some(Drift::default()));
+        for r in families::trial(Kind::AfterTilt, &dev, k, seed, avg) {
+            assert!(r.error_m <= r.allowed_m, "seed {seed} trial {k}: {r:?}");
+        }
+    }
+}
+
+#[test]
 fn strokes_after_a_tilt_arrive() {
     // Target 3: a stroke 0.1-2 s after a pad tilt or a set-down, at least 90 % within;
     // asserted at what 60 trials of a 90 % process show but for 0.1 %.

@@ -399,8 +399,10 @@ impl Detector {
         // calm for longer glides on a velocity no hand gave it (a start in a stroke's second
         // lobe, a ramp down taken for a ramp up). It stops, its velocity dropped.
         if quiet && self.motion.calm_run > s.calm_max {
+            // What the tilt tests held of it was never delivered: that glide is dropped too.
+            let held = self.tilt.held();
             self.enter_still();
-            return Action::Stop;
+            return if held { Action::Discard } else { Action::Stop };
         }
         if quiet && explained {
             // A motion that ends younger than its hold was a jolt, not a stroke; one that

@@ -51,8 +51,21 @@
 //!   crest; a shadow that could win one-sided won within 50 ms and took the stroke's first
 //!   half for a tilt (a 45.5 mm stroke over 1.68 s at 741 ug/sqrt(Hz): 38 mm short in 2 of
 //!   40 noise draws). A pad that goes on settling after the level was taken only adds to
-//!   its tilt: its shadow never goes both ways, and the tilt is confirmed as any (below). If
-//!   neither has won within the longest stroke, the hand is still moving and neither is
+//!   its tilt: its shadow never goes both ways, and the tilt is confirmed as any (below).
+//!   If the tilt is confirmed (one-sided for long enough against the motion's zero) while
+//!   the shadow has not yet gone both ways, but went against the tilt by more than `K_TURN`
+//!   sd on an axis, a hand moved the settled pad: the tilt is certain, the shadow's level is
+//!   the pad's (taken before the hand moved) and the shadow goes on, certain, winning at its
+//!   end one-sided. Confirmed as any tilt instead, from the latest steady stretch, that
+//!   stretch was in the stroke (a slow lobe's crest is steady over 0.3 s): the rest of the
+//!   stroke ran against it and was dropped as a second tilt (a 60.6 mm stroke 0.2 s after a
+//!   3.7 degree tilt, its first lobe against it: 0 mm arrived). `K_TURN = 5` rather than
+//!   `K_TILT`: a shadow tests up to 200 sub-windows (X and Y over the longest stroke), and
+//!   at 3 sd one of them goes against the tilt by noise in about one pad tilt in a hundred
+//!   (then the shadow came to rest and was adopted, and 1-3 mm arrived 0.7-0.9 s after the
+//!   pad rested); at 5 sd (4.3 sd of the difference, the level's own uncertainty not
+//!   counted) in fewer than one in ten thousand. If neither has won within the longest
+//!   stroke, the hand is still moving and neither is
 //!   proven: the shadow ends and the held motion goes on under the hold's tests (a tilt is
 //!   still confirmed once one-sided for long enough, and its held motion dropped). Adopting
 //!   the shadow there, as when the acceleration was one-sided at that moment, took a long
@@ -97,7 +110,13 @@
 //! hold quickly. So a motion that starts within the longest stroke after a tilt's new zero
 //! is held from its start until its acceleration reverses on an axis (a short sub-window
 //! significant with the other sign than the first one seen): a hand's does within its
-//! stroke, a tilt's remainder never does (it is then confirmed, as any tilt).
+//! stroke, a tilt's remainder never does (it is then confirmed, as any tilt). The
+//! reversal must pass `K_TURN`: over the seconds such a motion may glide, the first sign
+//! seen and a 3 sd sub-window against it by noise ended the hold in one draw in four (then
+//! what was held arrived at once: 0.8 m of a 143 mm/s glide). Still held after the longest
+//! calm a hand has ([`super::estimator`]), its glide is dropped, not delivered: the
+//! velocity of a start found in a stroke's second lobe, or of a tilt's remainder against a
+//! zero a little off, that nothing gave it.
 //!
 //! `K_TILT = 3`: a sub-window of a tilt falls short with probability 0.13 % (the hold is
 //! then released, and taken again a sub-window later).
@@ -111,6 +130,10 @@
 use super::noise::within;
 use super::ticks::offset_q16;
 use super::{Action, Detector, DriftSettings, State, REPLAY};
+
+/// `K_TURN^2` in Q8 [sd^2]: a shadow's sub-window against the tilt by more than `K_TURN = 5`
+/// sd is a hand's (see the module docs).
+const K2_TURN_Q8: u64 = 25 * 256;
 
 /// The tilt tests' state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -138,6 +161,9 @@ pub struct Tilt {
     shadow_signs: u8,
     shadow_two_sided: bool,
     shadow_change: bool,
+    /// While a shadow runs: whether a short sub-window went against the tilt's direction by
+    /// more than `K_TURN` sd (a hand's lobe, not noise).
+    shadow_hand: bool,
     /// Per horizontal axis and sign (negative, positive), the block count (`+ 1`, wrapping;
     /// 0: never) when a sub-window of either scale was last significant with that sign.
     seen: [[u32; 2]; 2],
@@ -185,7 +211,14 @@ fn confirmed(s: &DriftSettings, sided: [u32; 2]) -> Option<usize> {
 impl Detector {
     /// The sub-window of `scale` ending `back` blocks ago (0: the last complete block) on
     /// `axis`: its sign if it is significantly off `bias` (see the module docs), 0 if not.
-    fn sub_sign(&self, s: &DriftSettings, scale: usize, axis: usize, back: u32, bias: i64) -> i8 {
+    /// `k2_q8`: the threshold's square [sd^2, Q8].
+    fn sub_sign(
+        &self,
+        s: &DriftSettings,
+        (scale, axis, back): (usize, usize, u32),
+        bias: i64,
+        k2_q8: u64,
+    ) -> i8 {
         let m = s.sub_blocks[scale];
         let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
         let o = offset_q16(
@@ -199,7 +232,7 @@ impl Detector {
             crate::math::div_u64(n, u64::from(s.tick)),
         );
         let var = self.noise[axis].var(n, self.bias_samples);
-        if within(o, var, s.k2_q8, allow) {
+        if within(o, var, k2_q8, allow) {
             0
         } else {
             o.signum() as i8
@@ -223,7 +256,7 @@ impl Detector {
                 while u64::from(back) + m <= blocks
                     && (back as usize) + (m as usize) < super::BLOCKS
                 {
-                    let sign = self.sub_sign(s, scale, a, back, b);
+                    let sign = self.sub_sign(s, (scale, a, back), b, s.k2_q8);
                     if sign == 0 || (run.1 > 0 && sign != run.0) {
                         break;
                     }
@@ -292,12 +325,17 @@ impl Detector {
 
     /// Records the sign the short sub-window ending `back` blocks ago took on X and Y when
     /// significant off `level`: against the tilt's direction, the shadow is a hand's
-    /// ([`Tilt::shadow_turned`]).
+    /// ([`Tilt::shadow_turned`]); by more than `K_TURN` sd, a hand's for certain
+    /// (`Tilt::shadow_hand`).
     fn shadow_against(&mut self, s: &DriftSettings, level: [i64; 3], back: u32) {
         for (a, &l) in level.iter().enumerate().take(2) {
-            let sign = self.sub_sign(s, 0, a, back, l);
+            let sign = self.sub_sign(s, (0, a, back), l, s.k2_q8);
             if sign != 0 {
                 self.tilt.shadow_signs |= 1 << (2 * a + usize::from(sign > 0));
+                let against = self.tilt.shadow_dir[a] != sign;
+                if against && !self.tilt.shadow_hand {
+                    self.tilt.shadow_hand = self.sub_sign(s, (0, a, back), l, K2_TURN_Q8) == sign;
+                }
             }
         }
     }
@@ -306,18 +344,19 @@ impl Detector {
     fn count_block(&mut self, s: &DriftSettings, bias: [i64; 3]) {
         for scale in 0..2 {
             for (a, &b) in bias.iter().enumerate().take(2) {
-                let sign = self.sub_sign(s, scale, a, 0, b);
+                let sign = self.sub_sign(s, (scale, a, 0), b, s.k2_q8);
                 if sign != 0 {
                     // The block count's low 32 bits: 2.7 years of blocks before they wrap.
                     self.tilt.seen[a][usize::from(sign > 0)] =
                         (self.stream.blocks() as u32).wrapping_add(1);
                 }
                 if scale == 0 && sign != 0 {
-                    let first = &mut self.tilt.first[a];
-                    if *first == 0 {
-                        *first = sign;
-                    } else if sign == -*first {
-                        self.tilt.wary = false; // it reversed: a hand's
+                    let first = self.tilt.first[a];
+                    if first == 0 {
+                        self.tilt.first[a] = sign;
+                    } else if sign == -first && self.tilt.wary {
+                        // It reversed by more than noise (`K_TURN`): a hand's.
+                        self.tilt.wary = self.sub_sign(s, (0, a, 0), b, K2_TURN_Q8) != sign;
                     }
                 }
                 let run = &mut self.tilt.run[scale][a];
@@ -425,6 +464,7 @@ impl Detector {
         self.tilt.shadow = Some((level, samples, self.stream.ticks(), certain));
         self.tilt.shadow_dir = core::array::from_fn(|a| (level[a] - bias[a]).signum() as i8);
         self.tilt.shadow_signs = 0;
+        self.tilt.shadow_hand = false;
         self.tilt.shadow_two_sided = origin != Origin::Confirmed;
         self.tilt.shadow_change = origin == Origin::Change;
         // The shadow's replayed stretch is judged as its later blocks will be: its short
@@ -553,13 +593,19 @@ impl Detector {
         }
         let signs = self.tilt.shadow_signs;
         let both = signs & 0b11 == 0b11 || signs & 0b1100 == 0b1100;
-        let may_win = !self.tilt.shadow_two_sided || both;
-        if !may_win && self.stream.block_closed() {
+        if self.tilt.shadow_two_sided && !both && self.stream.block_closed() {
             if let Some(scale) = self.confirmed_scale(s) {
-                self.tilt.shadow = None;
-                return Some(self.confirm(s, bias, scale));
+                // A shadow that went against the tilt is a hand's on the settled pad: the
+                // tilt is certain, and so is the shadow's level (taken before the hand
+                // moved; the latest steady one may be the hand's crest).
+                if !self.tilt.shadow_hand {
+                    self.tilt.shadow = None;
+                    return Some(self.confirm(s, bias, scale));
+                }
+                self.tilt.shadow_two_sided = false;
             }
         }
+        let may_win = !self.tilt.shadow_two_sided || both;
         if may_win && shadow_quiet && self.velocity_explained(s, w, n, nb) {
             let turned = self.tilt.shadow_turned();
             self.enter_still();
