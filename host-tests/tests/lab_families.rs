@@ -182,6 +182,13 @@ fn a_tilts_shadow_turned_by_noise_is_not_taken_for_a_hand() {
             assert!(r.error_m <= r.allowed_m, "seed {seed} trial {k}: {r:?}");
         }
     }
+    // Small slow strokes (6.2-7.5 mm over 0.87-1.20 s, seed 1) soon after a tilt whose
+    // reversal never passes K_TURN: the stop tests end each at its mid-point, and each half
+    // ends unreversed. Dropped for that alone (not only once it outlasted the longest
+    // stroke), they were lost whole.
+    for k in [16, 27, 189] {
+        assert!(trial_within(Kind::AfterTilt, k), "after-tilt trial {k}");
+    }
 }
 
 #[test]

@@ -406,9 +406,12 @@ impl Detector {
         }
         if quiet && explained {
             // A motion that ends younger than its hold was a jolt, not a stroke; one that
-            // never stood out of the desk's disturbance was the disturbance; a tilt
-            // suspicion that ends in a stop was refuted: deliver.
-            let held = self.click.hold_left > 0 || self.motion.unproven;
+            // never stood out of the desk's disturbance was the disturbance; one soon after a
+            // tilt that never reversed and outlasted the longest stroke glided on a velocity
+            // no hand gave it ([`super::tilt`]). A tilt suspicion that ends in a stop was
+            // refuted: deliver.
+            let glided = self.tilt.unreversed() && self.age() > u64::from(s.land_timeout);
+            let held = self.click.hold_left > 0 || self.motion.unproven || glided;
             let fade = self.motion.calm_run >= s.fade_ticks;
             let samples = self.motion.samples;
             let discarded_only = self.motion.unproven;

@@ -113,10 +113,13 @@
 //! stroke, a tilt's remainder never does (it is then confirmed, as any tilt). The
 //! reversal must pass `K_TURN`: over the seconds such a motion may glide, the first sign
 //! seen and a 3 sd sub-window against it by noise ended the hold in one draw in four (then
-//! what was held arrived at once: 0.8 m of a 143 mm/s glide). Still held after the longest
-//! calm a hand has ([`super::estimator`]), its glide is dropped, not delivered: the
+//! what was held arrived at once: 0.8 m of a 143 mm/s glide). Such a motion that ends
+//! unreversed after the longest stroke, quiet with its velocity explained or at the longest
+//! calm a hand has ([`super::estimator`]), is dropped, not delivered: it glided on the
 //! velocity of a start found in a stroke's second lobe, or of a tilt's remainder against a
-//! zero a little off, that nothing gave it.
+//! zero a little off, that nothing gave it (delivered, 0.15-0.9 m arrived at once). One that
+//! ends sooner is delivered: a slow stroke that the stop tests end at its mid-point is two
+//! motions of one lobe each (dropped, small slow strokes after a tilt were lost whole).
 //!
 //! `K_TILT = 3`: a sub-window of a tilt falls short with probability 0.13 % (the hold is
 //! then released, and taken again a sub-window later).
@@ -185,6 +188,12 @@ impl Tilt {
     /// Whether the motion is held by the tilt tests.
     pub(crate) const fn held(&self) -> bool {
         self.held
+    }
+
+    /// Whether the motion began soon after a tilt's new zero and its acceleration has not
+    /// reversed since (see the module docs).
+    pub(crate) const fn unreversed(&self) -> bool {
+        self.wary
     }
 
     /// Whether the shadow's acceleration has gone against the tilt's direction on X or Y
