@@ -164,9 +164,7 @@ fn a_tilts_shadow_turned_by_noise_is_not_taken_for_a_hand() {
     // 2.6 mm arrived 0.68 to 0.90 s after the pad rested. A hand's lobe is taken only
     // beyond K_TURN (5 sd).
     for (seed, k) in [(1, 118), (2, 103), (2, 118), (2, 127)] {
-        let dev = families::board_device(Some(Drift::default()), seed);
-        let avg = families::averaging_s(Some(Drift::default()));
-        for r in families::trial(Kind::PadTilts, &dev, k, seed, avg) {
+        for r in trial_on(Kind::PadTilts, k, seed) {
             assert!(r.second <= 0.5, "seed {seed} trial {k}: {} s", r.second);
             assert_eq!(r.third, 0.0, "seed {seed} trial {k}: {} m late", r.third);
         }
@@ -176,9 +174,7 @@ fn a_tilts_shadow_turned_by_noise_is_not_taken_for_a_hand() {
     // shadow ran. Dropped there, the confirmation's latest steady level was in the stroke
     // and the stroke was lost or bent (72.5, 37.8 and 4.7 mm off).
     for (seed, k) in [(1, 41), (2, 20), (3, 190)] {
-        let dev = families::board_device(Some(Drift::default()), seed);
-        let avg = families::averaging_s(Some(Drift::default()));
-        for r in families::trial(Kind::AfterTilt, &dev, k, seed, avg) {
+        for r in trial_on(Kind::AfterTilt, k, seed) {
             assert!(r.error_m <= r.allowed_m, "seed {seed} trial {k}: {r:?}");
         }
     }
@@ -219,9 +215,14 @@ fn strokes_after_a_tilt_arrive() {
 
 /// Trial `k` of `kind` (seed 1, the board's sensor): its strokes' results.
 fn trial_of(kind: Kind, k: usize) -> Vec<families::Trial> {
-    let dev = families::board_device(Some(Drift::default()), 1);
+    trial_on(kind, k, 1)
+}
+
+/// Trial `k` of `kind` on `seed` (the board's sensor): its strokes' results.
+fn trial_on(kind: Kind, k: usize, seed: u64) -> Vec<families::Trial> {
+    let dev = families::board_device(Some(Drift::default()), seed);
     let avg = families::averaging_s(Some(Drift::default()));
-    families::trial(kind, &dev, k, 1, avg)
+    families::trial(kind, &dev, k, seed, avg)
 }
 
 /// Whether trial `k` of `kind` (seed 1, the board's sensor) is within its target.
