@@ -70,6 +70,17 @@
 //!   still confirmed once one-sided for long enough, and its held motion dropped). Adopting
 //!   the shadow there, as when the acceleration was one-sided at that moment, took a long
 //!   zigzag's level (a turn's crest, 3 m/s^2) for a tilt and delivered metres at once.
+//!   Unless, at that timeout, the shadow is at rest (quiet, its velocity explained) and the
+//!   held motion is not: no lobe is still to come, the device rests at the shadow's level,
+//!   and the held motion glides on a velocity no acceleration gives it now, against a zero
+//!   that was off (a tilt's new zero from a steady stretch that took in a stroke's start, 2
+//!   LSB short at 800 ug/sqrt(Hz): its hold released as the runs at 3.5 sd broke by noise,
+//!   it glided to the longest calm, 1.2-4.8 m). The level becomes the zero and the held
+//!   motion is dropped, not adopted: a shadow that never went both ways carries no hand's
+//!   stroke from rest (adopted, a new user's small strokes after a tilt arrived 2-8 times
+//!   their length), and the held motion's end velocity mixes the zero's error with the
+//!   velocity its start missed, which no end test tells apart (corrected for the zero, 17 of
+//!   1500 strokes came out worse, most that were lost arriving 2-5 times their length).
 //! - **A change while held**: held, the three short sub-windows before the last steady
 //!   and significant (a level), and the last not steady with them. Either the pad settled
 //!   and a hand moved it (the stroke would otherwise be dropped with the tilt's runaway when
@@ -615,8 +626,12 @@ impl Detector {
             }
         }
         let may_win = !self.tilt.shadow_two_sided || both;
-        if may_win && shadow_quiet && self.velocity_explained(s, w, n, nb) {
-            let turned = self.tilt.shadow_turned();
+        // At its timeout, a shadow at rest beside a held motion that is not: the hand has
+        // stopped at the shadow's level, and the held motion glides on a zero that was off.
+        // Its level, and the held motion dropped; never adopted one-sided (see the module docs).
+        let dropped = !may_win && timed_out && !(quiet && explained);
+        if (may_win || dropped) && shadow_quiet && self.velocity_explained(s, w, n, nb) {
+            let turned = !dropped && self.tilt.shadow_turned();
             self.enter_still();
             self.tilted(s);
             self.bias_samples = nb;
