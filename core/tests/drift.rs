@@ -2104,3 +2104,38 @@ fn a_held_stroke_on_a_zero_left_off_by_a_tilt_is_dropped_not_delivered_as_a_glid
         );
     }
 }
+
+#[test]
+fn the_longest_calm_is_judged_at_its_own_spans_bound() {
+    // The glide of `a_glide_no_hand_makes_stops_after_the_longest_glide_and_stroke` (+20 LSB
+    // for 0.1 s, then no acceleration at all), with a jolt 2.9 s into its calm: +1 LSB on X
+    // for `k` samples. The calm that ends a glide no hand makes is 6 s long, 300 of the quiet
+    // test's 20 ms windows, and is broken only past `chi2 + 2 ln 300` (23.2), the bound at
+    // which the whole span keeps one window's 0.27 % tail: at the fade's bound (16.9, for its
+    // 12.5 windows) noise broke it in about one long calm in ten, and a runaway glided on for
+    // 6 s more (a new user's two strokes after a tilt, still moving 10 s after the hand). The
+    // jolt's chi-square grows as `k^2`: 40 samples (between the bounds; the fade's is crossed
+    // from 38) leave the glide to stop 6.1 s after its ramp; 48 (past the calm's, crossed
+    // from 44) restart the calm, as a hand's deceleration does. Controls: judged at the
+    // fade's bound, 40 samples restart it too; never restarted, 48 samples do not.
+    for (k, moving) in [(40usize, false), (48, true)] {
+        let glide = |i: usize| {
+            let x = if (3000..3300).contains(&i) {
+                2068
+            } else if (12_000..12_000 + k).contains(&i) {
+                2049
+            } else {
+                2048
+            };
+            [x, 2048, 2048]
+        };
+        let mut t = tracker(Some(Drift::default()));
+        run(&mut t, 3300 + 18_300, glide);
+        assert_eq!(
+            t.drift_state() == Some(DriftState::Moving),
+            moving,
+            "a jolt of {k} samples: {:?}",
+            t.drift_state()
+        );
+    }
+}

@@ -170,6 +170,9 @@ def derive(d, fs):
     # The quiet test's bound over the fade's span: the 2-dof tail exp(-c / 2) of one window,
     # shared by its fade / quiet windows.
     put("fade_chi2", t["chi2"] + 2 * math.log(max(fade / quiet, 1)))
+    # The same over the longest calm's span.
+    calm = rnd((d["glide_max_s"] + d["stroke_max_s"]) / tick_s)
+    put("calm_chi2", t["chi2"] + 2 * math.log(max(calm / quiet, 1)))
     put("tilt_blocks", hold_blocks, 0)
     put("tilt_blocks", confirm, 1)
     # The lift test: a window of 0.605 of the slowest rise, one false lift per budget.

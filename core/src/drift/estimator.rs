@@ -60,7 +60,11 @@
 //! starts from a wrong velocity (a stroke found in its second lobe, a ramp down taken for a
 //! ramp up) would glide that long. No hand glides longer than `glide_max_s`, and its ramps'
 //! calm ends add at most the longest stroke: a motion calm for longer than both stops, its
-//! velocity dropped. That bounds such a runaway; it does not mend it.
+//! velocity dropped. That bounds such a runaway; it does not mend it. That calm is judged
+//! at its own span's bound, `chi2 + 2 ln m` for its `m = calm_max / quiet_ticks` windows
+//! (23.2 for 300), as the fade's is: at the fade's bound noise broke a 6 s calm in about
+//! one span in ten (300 windows at a 0.02 % tail each), and the runaway glided on for 6 s
+//! more (a new user's two strokes after a tilt, still moving 10 s after the hand).
 //!
 //! A stroke ends with a deceleration, but near the noise floor its velocity may be explained
 //! before the deceleration is over; what is left of it would start a motion backwards. So
@@ -127,6 +131,8 @@ pub struct Motion {
     pub(crate) samples: u64,
     /// Ticks since the quiet test last failed at the fade's span bound (a deceleration).
     calm_run: u32,
+    /// Ticks since it last failed at the longest calm's span bound.
+    long_calm: u32,
     /// Started on a disturbed desk and not yet out of the disturbance's velocity.
     pub(crate) unproven: bool,
     /// The horizontal velocities (`W`) summed at each block's end since the onset, of the
@@ -162,6 +168,7 @@ impl Motion {
     pub(crate) fn begin(&mut self, samples: u64, resumes: bool) {
         self.samples = samples;
         self.calm_run = 0;
+        self.long_calm = 0;
         self.unproven = false;
         if !resumes {
             self.travel = [0; 2];
@@ -370,12 +377,17 @@ impl Detector {
         if self.click.hold_left > 0 && !self.motion.unproven {
             self.motion.unproven = self.shaken_xy();
         }
-        let chi2 = self.quiet_chi2(s, bias, s.fade_chi2_q8);
+        let chi2 = self.quiet_chi2(s, bias, s.calm_chi2_q8);
         let quiet = chi2 <= s.chi2_q8;
         self.motion.calm_run = if chi2 > s.fade_chi2_q8 {
             0
         } else {
             self.motion.calm_run + 1
+        };
+        self.motion.long_calm = if chi2 > s.calm_chi2_q8 {
+            0
+        } else {
+            self.motion.long_calm + 1
         };
         // Every use of the velocity test below is with the quiet one, but for a motion still
         // unproven: not computed otherwise (two 128-bit variances, most ticks of a stroke).
@@ -398,7 +410,7 @@ impl Detector {
         // a lobe at most half the longest stroke) add at most the longest stroke: a motion
         // calm for longer glides on a velocity no hand gave it (a start in a stroke's second
         // lobe, a ramp down taken for a ramp up). It stops, its velocity dropped.
-        if quiet && self.motion.calm_run > s.calm_max {
+        if quiet && self.motion.long_calm > s.calm_max {
             // What the tilt tests held of it was never delivered: that glide is dropped too.
             let held = self.tilt.held();
             self.enter_still();

@@ -464,6 +464,9 @@ pub struct DriftSettings {
     /// The longest calm a hand's motion has: the longest glide and the longest stroke
     /// [ticks] ([`estimator`]).
     pub(crate) calm_max: u32,
+    /// The quiet test's chi-square bound over the longest calm (Q8): `chi2 + 2 ln m` for its
+    /// `m = calm_max / quiet_ticks` windows ([`estimator`]).
+    pub(crate) calm_chi2_q8: u128,
     /// What sampling at `fs` can leave of a hand's stroke's velocity, per unit of its peak
     /// velocity (Q32): `16 / (3 (D fs)^2)` for the shortest stroke `D = 2 / knock_hz`
     /// ([`estimator`]).
@@ -611,6 +614,8 @@ impl Drift {
         let sample_box = |f: f64| boxcar(tick, f / fs);
         let quiet_ticks = round(t.quiet_s / tick_s).max(1) as u32;
         let fade_ticks = round(self.stroke_max_s * t.fade_fraction / tick_s).max(1) as u32;
+        let calm_max =
+            round((self.glide_max_s + self.stroke_max_s) / tick_s).min(u64::from(u32::MAX)) as u32;
         // (With one sample a tick, 0.8 of the tick rate is past Nyquist; the gains there
         // only fall with frequency, so the range's top does not bind.)
         let top = (0.8 * f_tick).max(self.knock_hz);
@@ -695,8 +700,11 @@ impl Drift {
                     * 256.0,
             )),
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
-            calm_max: round((self.glide_max_s + self.stroke_max_s) / tick_s)
-                .min(u64::from(u32::MAX)) as u32,
+            calm_max,
+            calm_chi2_q8: u128::from(round(
+                (t.chi2 + 2.0 * libm::log((f64::from(calm_max) / f64::from(quiet_ticks)).max(1.0)))
+                    * 256.0,
+            )),
             band: [l1, l2],
             band_lag: ((l1 + l2 - 1).div_ceil(block) + 1).min(ticks::BAND_PAST as u32),
             lobe_slack: round(0.385 / 1.5 * self.stroke_max_s / tick_s) as u32 + l1 + l2,
@@ -784,6 +792,7 @@ impl DriftSettings {
         f("quiet_ticks", 0, n(self.quiet_ticks));
         f("lobe_slack", 0, n(self.lobe_slack));
         f("fade_chi2", 0, self.fade_chi2_q8 as f64 / 256.0);
+        f("calm_chi2", 0, self.calm_chi2_q8 as f64 / 256.0);
         for (i, &b) in self.tilt_blocks.iter().enumerate() {
             f("tilt_blocks", i, n(b));
         }
