@@ -208,6 +208,19 @@ fn a_glide_goes_on_while_its_velocity_is_known_and_its_ramp_down_does_not_run_it
     assert!((c[0] as f64) < 0.2 * want, "{c:?} vs {want}");
 }
 
+/// Sample `i` of a noiseless glide no hand makes: +20 LSB on X for 0.1 s from 1 s, then no
+/// acceleration at all, but for a jolt of +1 LSB on X for `jolt` samples from 4 s.
+fn ramp_glide(i: usize, jolt: usize) -> [u16; 3] {
+    let x = if (3000..3300).contains(&i) {
+        2068
+    } else if (12_000..12_000 + jolt).contains(&i) {
+        2049
+    } else {
+        2048
+    };
+    [x, 2048, 2048]
+}
+
 #[test]
 fn a_glide_no_hand_makes_stops_after_the_longest_glide_and_stroke() {
     // +20 LSB for 0.1 s (a ramp to 48 mm/s), then a glide with no acceleration at all and no
@@ -215,14 +228,7 @@ fn a_glide_no_hand_makes_stops_after_the_longest_glide_and_stroke() {
     // seconds. No hand glides longer than glide_max_s (4 s), its ramps' calm ends adding at
     // most the longest stroke (2 s): after 6 s of calm it stops, the velocity dropped, and
     // nothing moves after. Control: without the bound it is still gliding 10 s later.
-    let glide = |i: usize| {
-        let x = if (3000..3300).contains(&i) {
-            2068
-        } else {
-            2048
-        };
-        [x, 2048, 2048]
-    };
+    let glide = |i: usize| ramp_glide(i, 0);
     let mut t = tracker(Some(Drift::default()));
     // 5.9 s of calm after the ramp: gliding.
     let a = run(&mut t, 3300 + 17_700, glide);
@@ -2119,18 +2125,8 @@ fn the_longest_calm_is_judged_at_its_own_spans_bound() {
     // from 44) restart the calm, as a hand's deceleration does. Controls: judged at the
     // fade's bound, 40 samples restart it too; never restarted, 48 samples do not.
     for (k, moving) in [(40usize, false), (48, true)] {
-        let glide = |i: usize| {
-            let x = if (3000..3300).contains(&i) {
-                2068
-            } else if (12_000..12_000 + k).contains(&i) {
-                2049
-            } else {
-                2048
-            };
-            [x, 2048, 2048]
-        };
         let mut t = tracker(Some(Drift::default()));
-        run(&mut t, 3300 + 18_300, glide);
+        run(&mut t, 3300 + 18_300, |i| ramp_glide(i, k));
         assert_eq!(
             t.drift_state() == Some(DriftState::Moving),
             moving,

@@ -142,7 +142,8 @@ def derive(d, fs):
     put("fade_ticks", fade)
     put("glide_ticks", rnd(d["glide_max_s"] / tick_s))
     # A hand's longest calm: the longest glide and its ramps' calm ends (the longest stroke).
-    put("calm_max", rnd((d["glide_max_s"] + d["stroke_max_s"]) / tick_s))
+    calm = rnd((d["glide_max_s"] + d["stroke_max_s"]) / tick_s)
+    put("calm_max", calm)
     shift = min(max(rnd(math.log2(t["disturbance_s"] / tick_s)), 3), 10)
     margin = lambda k: 1 + t["disturbance_sigmas"] * math.sqrt(2 / 2 ** k)
     put("dist_shift", shift)
@@ -171,7 +172,6 @@ def derive(d, fs):
     # shared by its fade / quiet windows.
     put("fade_chi2", t["chi2"] + 2 * math.log(max(fade / quiet, 1)))
     # The same over the longest calm's span.
-    calm = rnd((d["glide_max_s"] + d["stroke_max_s"]) / tick_s)
     put("calm_chi2", t["chi2"] + 2 * math.log(max(calm / quiet, 1)))
     put("tilt_blocks", hold_blocks, 0)
     put("tilt_blocks", confirm, 1)

@@ -616,6 +616,12 @@ impl Drift {
         let fade_ticks = round(self.stroke_max_s * t.fade_fraction / tick_s).max(1) as u32;
         let calm_max =
             round((self.glide_max_s + self.stroke_max_s) / tick_s).min(u64::from(u32::MAX)) as u32;
+        // The quiet test's bound over a span of `ticks`: `chi2 + 2 ln m` for its `m` windows,
+        // the same tail for the span as `chi2` for one window (Q8).
+        let span_chi2_q8 = |ticks: u32| {
+            let m = (f64::from(ticks) / f64::from(quiet_ticks)).max(1.0);
+            u128::from(round((t.chi2 + 2.0 * libm::log(m)) * 256.0))
+        };
         // (With one sample a tick, 0.8 of the tick rate is past Nyquist; the gains there
         // only fall with frequency, so the range's top does not bind.)
         let top = (0.8 * f_tick).max(self.knock_hz);
@@ -694,17 +700,10 @@ impl Drift {
             dist_margin_short_q8: round(dist_margin_short * 256.0),
             burst_k2_q8: round(t.disturbance_sigmas * t.disturbance_sigmas * 256.0),
             fade_ticks,
-            fade_chi2_q8: u128::from(round(
-                (t.chi2
-                    + 2.0 * libm::log((f64::from(fade_ticks) / f64::from(quiet_ticks)).max(1.0)))
-                    * 256.0,
-            )),
+            fade_chi2_q8: span_chi2_q8(fade_ticks),
             glide_ticks: round(self.glide_max_s / tick_s).min(u64::from(u32::MAX)) as u32,
             calm_max,
-            calm_chi2_q8: u128::from(round(
-                (t.chi2 + 2.0 * libm::log((f64::from(calm_max) / f64::from(quiet_ticks)).max(1.0)))
-                    * 256.0,
-            )),
+            calm_chi2_q8: span_chi2_q8(calm_max),
             band: [l1, l2],
             band_lag: ((l1 + l2 - 1).div_ceil(block) + 1).min(ticks::BAND_PAST as u32),
             lobe_slack: round(0.385 / 1.5 * self.stroke_max_s / tick_s) as u32 + l1 + l2,
