@@ -31,82 +31,89 @@
 //!   before the hold, `g sin(theta) (t_detect + T_max / 8)^2 / 2` for a sudden tilt. A stroke
 //!   longer than `T_max / 4` is held during part of each lobe (its cursor pauses, then
 //!   catches up).
-//! - **Release**: held, and no axis one-sided for `T_max / 8` at either scale (the acceleration
-//!   reversed or went quiet, as a hand's does): what was held is delivered. Unless the level
-//!   before the change (the three short sub-windows before the last) was significant on X or
-//!   Y: then the change may be a stroke's second lobe (the hold was a slow stroke's first) or
-//!   a new motion after a tilt to that level (the hold was a pad tilting, then the hand
-//!   moved). No statistic tells them apart as they happen (REFERENCE (j)); their ends do: at
-//!   rest the acceleration returns to the old zero after a stroke, to the tilt's level after a
-//!   tilt. So the motion stays held, and its **shadow**, the second hypothesis, is integrated
-//!   beside it from the last sub-window on, from zero velocity against that level
-//!   ([`super::Action::Shadow`]). Whichever stop test passes first (quiet and velocity
-//!   explained, each against its own zero) wins: the motion is delivered as it is, or the
-//!   shadow replaces it ([`super::Action::Adopt`]: the tilt's runaway dropped, the level the
-//!   new zero). The shadow may win only once one axis's short sub-windows (of its replay or
-//!   later) have gone both ways against the level, as a hand's stroke from rest does (two
-//!   lobes). A release can come at a slow stroke's crest: one 100 ms sub-window of a lobe
-//!   peaking at 5.8 sd falls short of `K_TILT` by noise, the level before it is the crest's,
-//!   and there the shadow is quiet and its velocity small while the acceleration rounds the
-//!   crest; a shadow that could win one-sided won within 50 ms and took the stroke's first
-//!   half for a tilt (a 45.5 mm stroke over 1.68 s at 741 ug/sqrt(Hz): 38 mm short in 2 of
-//!   40 noise draws). A pad that goes on settling after the level was taken only adds to
-//!   its tilt: its shadow never goes both ways, and the tilt is confirmed as any (below).
-//!   If the tilt is confirmed (one-sided for long enough against the motion's zero) while
-//!   the shadow has not yet gone both ways, but went against the tilt by more than `K_TURN`
-//!   sd on an axis, a hand moved the settled pad: the tilt is certain, the shadow's level is
-//!   the pad's (taken before the hand moved) and the shadow goes on, certain, winning at its
-//!   end one-sided. Confirmed as any tilt instead, from the latest steady stretch, that
-//!   stretch was in the stroke (a slow lobe's crest is steady over 0.3 s): the rest of the
-//!   stroke ran against it and was dropped as a second tilt (a 60.6 mm stroke 0.2 s after a
-//!   3.7 degree tilt, its first lobe against it: 0 mm arrived). `K_TURN = 5` rather than
-//!   `K_TILT`: a shadow tests up to 200 sub-windows (X and Y over the longest stroke), and
-//!   at 3 sd one of them goes against the tilt by noise in about one pad tilt in a hundred
-//!   (then the shadow came to rest and was adopted, and 1-3 mm arrived 0.7-0.9 s after the
-//!   pad rested); at 5 sd (4.3 sd of the difference, the level's own uncertainty not
-//!   counted) in fewer than one in ten thousand. If neither has won within the longest
-//!   stroke, the hand is still moving and neither is
-//!   proven: the shadow ends and the held motion goes on under the hold's tests (a tilt is
-//!   still confirmed once one-sided for long enough, and its held motion dropped). Adopting
-//!   the shadow there, as when the acceleration was one-sided at that moment, took a long
-//!   zigzag's level (a turn's crest, 3 m/s^2) for a tilt and delivered metres at once.
-//!   Unless, at that timeout, the shadow is at rest (quiet, its velocity explained) and the
-//!   held motion is not: no lobe is still to come, the device rests at the shadow's level,
-//!   and the held motion glides on a velocity no acceleration gives it now, against a zero
-//!   that was off (a tilt's new zero from a steady stretch that took in a stroke's start, 2
-//!   LSB short at 800 ug/sqrt(Hz): its hold released as the runs at 3.5 sd broke by noise,
-//!   it glided to the longest calm, 1.2-4.8 m). The level becomes the zero and the held
-//!   motion is dropped, not adopted: a shadow that never went both ways carries no hand's
-//!   stroke from rest (adopted, a new user's small strokes after a tilt arrived 2-8 times
-//!   their length), and the held motion's end velocity mixes the zero's error with the
-//!   velocity its start missed, which no end test tells apart (corrected for the zero, 17 of
-//!   1500 strokes came out worse, most that were lost arriving 2-5 times their length).
+//! - **Release**: held, and no axis one-sided for `T_max / 8` at either scale (the
+//!   acceleration reversed or went quiet, as a hand's does): what was held is delivered.
+//!   Unless the level before the change (the three short sub-windows before the last) was
+//!   significant on X or Y: then the change may be a stroke's second lobe (the hold was a
+//!   slow stroke's first) or a new motion after a tilt to that level (the hold was a pad
+//!   tilting, then the hand moved). No statistic tells them apart as they happen (REFERENCE
+//!   (j)); their ends do: at rest the acceleration returns to the old zero after a stroke,
+//!   to the tilt's level after a tilt. So the motion stays held, and its **shadow**, the
+//!   second hypothesis, is integrated beside it from the last sub-window on, from zero
+//!   velocity against that level ([`super::Action::Shadow`]). Whichever stop test passes
+//!   first (quiet and velocity explained, each against its own zero) wins: the motion is
+//!   delivered as it is, or the shadow replaces it ([`super::Action::Adopt`]: the tilt's
+//!   runaway dropped, the level the new zero). The shadow may win only once one axis's
+//!   short sub-windows (of its replay or later) have gone both ways against the level, as a
+//!   hand's stroke from rest does (two lobes). A release can come at a slow stroke's crest:
+//!   one 100 ms sub-window of a lobe peaking at 5.8 sd falls short of `K_TILT` by noise,
+//!   the level before it is the crest's, and there the shadow is quiet and its velocity
+//!   small while the acceleration rounds the crest; a shadow that could win one-sided won
+//!   within 50 ms and took the stroke's first half for a tilt (a 45.5 mm stroke over 1.68 s
+//!   at 741 ug/sqrt(Hz): 38 mm short in 2 of 40 noise draws). A pad that goes on settling
+//!   after the level was taken only adds to its tilt: its shadow never goes both ways, and
+//!   the tilt is confirmed as any (below). If the tilt is confirmed (one-sided for long
+//!   enough against the motion's zero) while the shadow has not yet gone both ways, but
+//!   went against the tilt by more than `K_TURN` sd on an axis, a hand moved the settled
+//!   pad: the tilt is certain, the shadow's level is the pad's (taken before the hand
+//!   moved) and the shadow goes on, certain, winning at its end one-sided. Confirmed as any
+//!   tilt instead, from the latest steady stretch, that stretch was in the stroke (a slow
+//!   lobe's crest is steady over 0.3 s): the rest of the stroke ran against it and was
+//!   dropped as a second tilt (a 60.6 mm stroke 0.2 s after a 3.7 degree tilt, its first
+//!   lobe against it: 0 mm arrived). `K_TURN = 5` rather than `K_TILT`: a shadow tests up
+//!   to 200 sub-windows (X and Y over the longest stroke), and at 3 sd one of them goes
+//!   against the tilt by noise in about one pad tilt in a hundred (then the shadow came to
+//!   rest and was adopted, and 1-3 mm arrived 0.7-0.9 s after the pad rested); at 5 sd (4.3
+//!   sd of the difference, the level's own uncertainty not counted) in fewer than one in
+//!   ten thousand. If neither has won within the longest stroke, neither is proven. Still
+//!   accelerating against both zeros, the hand is still moving: the shadow ends and the
+//!   held motion goes on under the hold's tests (a tilt is still confirmed once one-sided
+//!   for long enough, and its held motion dropped). Adopting the shadow there, as when the
+//!   acceleration was one-sided at that moment, took a long zigzag's level (a turn's crest,
+//!   3 m/s^2) for a tilt and delivered metres at once. Unless, at that timeout, the shadow
+//!   is at rest (quiet, its velocity explained) and the held motion is not: no lobe is
+//!   still to come, the device rests at the shadow's level, and the held motion glides on a
+//!   velocity no acceleration gives it now, against a zero that was off (a tilt's new zero
+//!   from a steady stretch that took in a stroke's start, 2 LSB short at 800 ug/sqrt(Hz):
+//!   its hold released as the runs at 3.5 sd broke by noise, it glided to the longest calm,
+//!   1.2-4.8 m). The level becomes the zero and the held motion is dropped, not adopted: a
+//!   shadow that never went both ways carries no hand's stroke from rest (adopted, a new
+//!   user's small strokes after a tilt arrived 2-8 times their length), and the held
+//!   motion's end velocity mixes the zero's error with the velocity its start missed, which
+//!   no end test tells apart (corrected for the zero, 17 of 1500 strokes came out worse,
+//!   most that were lost arriving 2-5 times their length). Otherwise, quiet against either
+//!   zero, the device is not accelerating on that hypothesis, and the last sub-window's
+//!   mean is no hand's: nothing held is delivered, and the zeros become that mean (as at a
+//!   change's timeout, below). Left to the hold's tests, the held motion was delivered when
+//!   their runs broke by noise, with the velocity its start had missed: a circle held as it
+//!   turned slowly (10 mm, 1.5 turns in 4 s at 520 ug/sqrt(Hz)) ended 78 to 359 mm off in 6
+//!   of 8 noise draws.
 //! - **A change while held**: held, the three short sub-windows before the last steady
 //!   and significant (a level), and the last not steady with them. Either the pad settled
-//!   and a hand moved it (the stroke would otherwise be dropped with the tilt's runaway when
-//!   the tilt is confirmed), or the acceleration of the held stroke itself stood steady at
-//!   its crest and now falls. A shadow from that level, replaying the last sub-window, tells
-//!   them apart at its end, as at a release, two-sided: a crest's fall goes one way (a
-//!   shadow begun at the crest is quiet and its velocity small while the acceleration rounds
-//!   the crest, and one-sided it would take the stroke's first half for a tilt). Where a crest's noise
-//!   makes both signs the shadow can still win wrongly (seed 2's trial 68 of the 14- and
-//!   16-bit sweeps, 73 mm). If the tilt is confirmed before such a shadow has gone both
-//!   ways, the change was more of the tilt: the shadow ends and the confirmation goes on as
-//!   without it (the latest steady level). If it times out unconfirmed, its level was not a
-//!   settled pad's (a slow tilt's ramp reads as steady over 0.3 s), and the held motion,
-//!   held since before the change, has not ended either: neither hypothesis is proven. The
-//!   shadow is dropped, not adopted (adopted, a stroke made while the pad still tilted
-//!   arrived with the rest of the tilt, 2.4 times its length). If the device is at rest on
-//!   either zero (quiet against the held motion's or the shadow's level), nothing held is
-//!   delivered: the zeros become the last sub-window's means and the held motion is
+//!   and a hand moved it (the stroke would otherwise be dropped with the tilt's runaway
+//!   when the tilt is confirmed), or the acceleration of the held stroke itself stood
+//!   steady at its crest and now falls. A shadow from that level, replaying the last
+//!   sub-window, tells them apart at its end, as at a release, two-sided: a crest's fall
+//!   goes one way (a shadow begun at the crest is quiet and its velocity small while the
+//!   acceleration rounds the crest, and one-sided it would take the stroke's first half for
+//!   a tilt). Where a crest's noise makes both signs the shadow can still win wrongly (seed
+//!   2's trial 68 of the 14- and 16-bit sweeps, 73 mm). If the tilt is confirmed before
+//!   such a shadow has gone both ways, the change was more of the tilt: the shadow ends and
+//!   the confirmation goes on as without it (the latest steady level). If it times out
+//!   unconfirmed, its level was not a settled pad's (a slow tilt's ramp reads as steady
+//!   over 0.3 s), and the held motion, held since before the change, has not ended either:
+//!   neither hypothesis is proven. The shadow is dropped, not adopted (adopted, a stroke
+//!   made while the pad still tilted arrived with the rest of the tilt, 2.4 times its
+//!   length). If the device is quiet on either zero, nothing held is delivered, as at a
+//!   release's timeout: the zeros become the last sub-window's means and the held motion is
 //!   dropped. Left to the hold's tests, it was delivered when their runs broke by noise,
 //!   with the velocity its start had missed, and glided to the longest calm: a slow circle
 //!   held at a turn (36.8 mm, 3.9 turns in 11 s) ended 1.1 to 1.9 m off in 10 of 12 noise
-//!   draws, and a new user's two strokes after a tilt more than 1 m off in 3 of 1000. If the
-//!   device is still accelerating on both, that mean is a hand's: the held motion goes on
-//!   under the hold's tests (a zero from mid-stroke ran a tilt's held zigzag 88 mm off its
-//!   legs' 35). A stroke a shadow carries arrives at once when the shadow wins, after the
-//!   hand stopped.
+//!   draws, and a new user's two strokes after a tilt more than 1 m off in 3 of 1000. If
+//!   the device is still accelerating on both, that mean is a hand's: the held motion goes
+//!   on under the hold's tests (a zero from mid-stroke ran a tilt's held zigzag 88 mm off
+//!   its legs' 35). A stroke a shadow carries arrives at once when the shadow wins, after
+//!   the hand stopped.
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
 //!   stroke is that long. Unless a horizontal axis was significant with both signs within
 //!   that time (at either scale): a tilt leaks gravity along one fixed horizontal direction,
@@ -663,26 +670,24 @@ impl Detector {
             return Some(Action::None);
         }
         self.tilt.shadow = None;
-        if certain {
-            // A tilt for certain whose shadow never came to rest: the pad went on tilting.
-            // The zeros become the last sub-window's means; Still.
+        // A shadow that never came to rest beside a held motion that has not ended either:
+        // neither hypothesis is proven. A tilt for certain: the pad went on tilting. At rest
+        // on either zero (quiet against the held motion's or the shadow's level), the
+        // device is not accelerating on one of them, so the last sub-window's mean is no
+        // hand's. Either way nothing held is delivered: the zeros become that mean; Still.
+        if certain || quiet || shadow_quiet {
             return Some(self.rezero_on_last(s, bias, 0));
         }
+        // Still accelerating on both (that mean would be a hand's). A change's shadow: its
+        // level was not a settled pad's (a tilt still under way); the held motion goes on
+        // as it was.
         if self.tilt.shadow_change {
-            // A change's shadow that never came to rest: its level was not a settled pad's
-            // (a tilt still under way), and the held motion, held since before the change,
-            // has not ended either: neither is proven. At rest against either zero, nothing
-            // held is delivered: the zeros become the last sub-window's means. Still moving
-            // (that mean is a hand's), the held motion goes on as it was.
-            if quiet || shadow_quiet {
-                return Some(self.rezero_on_last(s, bias, 0));
-            }
             return None;
         }
-        // A release's shadow that never came to rest: the hand went on moving. Neither
-        // hypothesis is proven, and the shadow's level may be a hand's crest; the held motion
-        // goes on, and the hold's tests judge it from here (a tilt is still confirmed when
-        // one-sided for long enough, and then nothing of it is delivered).
+        // A release's shadow: the hand went on moving, and the shadow's level may be a
+        // hand's crest; the held motion goes on, and the hold's tests judge it from here (a
+        // tilt is still confirmed when one-sided for long enough, and then nothing of it is
+        // delivered).
         self.tilt.held = false;
         None
     }
