@@ -2074,6 +2074,28 @@ fn tilt_ramp_legs(
 }
 
 #[test]
+fn a_zigzag_that_keeps_a_confirmed_tilts_shadow_moving_is_dropped_at_its_timeout() {
+    // A pad tilts 2.1 degrees (X +15 LSB over 1 s) and 0.3 s after it rests a hand zigzags
+    // along X, eight legs of 50 mm in 0.4 s each (3.2 s, ending where it began), with 5.9
+    // LSB of noise a sample (370 ug/sqrt(Hz)). The tilt is confirmed as the zigzag begins,
+    // the zigzag goes on as the certain shadow from the pad's level, and it never comes to
+    // rest within the longest stroke: at that timeout the device is still accelerating
+    // against both zeros. The tilt is certain, so the pad may still be tilting: nothing held
+    // is delivered and the zeros become the last sub-window's means. Draws 1-4 end 0 to 118
+    // mm from where the zigzag began, within the hand's 400 mm of travel (the legs are lost,
+    // not delivered as a runaway); control, a certain shadow's timeout taken as a release's
+    // (the held motion going on under the hold's tests): 1.59 to 1.62 m.
+    let legs: Vec<(f64, f64, f64)> = (0..8)
+        .map(|i| (0.05, 0.4, if i % 2 == 0 { 0.0 } else { 180.0 }))
+        .collect();
+    for seed in 1..=4 {
+        let end = tilt_ramp_legs((15.0, 1.0), 0.3, &legs, (seed, 3));
+        let off = end[0].hypot(end[1]);
+        assert!(off <= 400.0, "draw {seed}: {end:?} mm, {off:.0} mm off");
+    }
+}
+
+#[test]
 fn a_stroke_just_after_a_tilt_and_against_it_arrives_when_the_tilt_is_confirmed() {
     // A new user's pad tilts 3.7 degrees (X +27 LSB over 0.45 s) and 0.2 s after it rests a
     // hand makes a slow stroke, 60.6 mm over 1.72 s at 200 degrees (its first lobe against
