@@ -54,8 +54,10 @@ fn agrees(name: &str, core: f64, want: f64) -> bool {
     const Q16: f64 = 0.5 / 65_536.0;
     match name {
         "alarm" => (core - want).abs() <= Q8 + 1e-6,
-        "dist_margin" | "dist_margin_short" | "burst_k2" | "kappa" | "lobe" | "k2" | "chi2"
-        | "fade_chi2" | "calm_chi2" | "inflation" | "lift_k2" => (core - want).abs() <= Q8 + 1e-9,
+        "dist_margin" | "dist_margin_short" | "burst_k2" | "kappa" | "lobe" | "lone" | "k2"
+        | "chi2" | "fade_chi2" | "calm_chi2" | "inflation" | "lift_k2" => {
+            (core - want).abs() <= Q8 + 1e-9
+        }
         "bin_ratio" | "lift_mount" | "lift_two_g" => (core - want).abs() <= Q16 + 1e-12,
         // Q32: half its step.
         "alias" => (core - want).abs() <= 0.5 / 4_294_967_296.0 + 1e-15,

@@ -159,6 +159,10 @@ def derive(d, fs):
     put("kappa", t["kappa"][0], 0)
     put("kappa", t["kappa"][1], 1)
     put("lobe", t["lobe_sd"])
+    # A lone lobe: a run noise passes with probability e^(-2 kappa x) (c <= 1), at most one
+    # run in two ticks over the longest glide, P_LONE = 1 % of starts.
+    runs = max(mpmath.mpf(d["glide_max_s"]) / tick_s / 2, 1)
+    put("lone", float(mpmath.log(runs / mpmath.mpf("0.01")) / (2 * t["kappa"][0])))
     put("k2", t["k_sd"] ** 2)
     put("chi2", t["chi2"])
     put("inflation", t["q_inflation_sd"])

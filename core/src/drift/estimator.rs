@@ -121,6 +121,7 @@
 //! grows past it.
 
 use super::click::Click;
+use super::noise::within;
 use super::ticks::offset;
 use super::{Action, Detector, DriftSettings};
 
@@ -317,6 +318,25 @@ impl Detector {
         )
     }
 
+    /// Whether the velocities `W = 2 V` of a lone lobe's mate are what the lone lobe can have
+    /// given, reversed, on each axis where it rose past `lone_sd`: against its sign at most
+    /// its bound, along it nothing, each within `K_TILT` of its own sd ([`super::rest`]).
+    fn lone_explains(&self, s: &DriftSettings, velocity: [i64; 3]) -> bool {
+        let (n, nb) = (self.motion.samples, self.bias_samples);
+        let mut any = false;
+        for (a, &w) in velocity.iter().enumerate().take(2) {
+            if let Some((sign, bound)) = self.rest.lone_velocity(s, a, self.noise[a].sd_q16) {
+                let v = w / 2;
+                let allow = if v.signum() == -sign { bound } else { 0 };
+                if !within(v, self.noise[a].var(n, nb), s.k2_q8, allow) {
+                    return false;
+                }
+                any = true;
+            }
+        }
+        any
+    }
+
     /// The velocity amplitude (`V`, Q16 counts times samples) the disturbance measured now
     /// can give each horizontal axis; 0 on a quiet desk.
     fn velocity_allowance(&self, s: &DriftSettings) -> [u64; 2] {
@@ -393,6 +413,17 @@ impl Detector {
         // unproven: not computed otherwise (two 128-bit variances, most ticks of a stroke).
         let explained = (quiet || self.motion.unproven)
             && self.velocity_explained(s, velocity, self.motion.samples, self.bias_samples);
+        // A lone lobe's mate that went calm unreversed, its velocity the lone lobe's
+        // reversed, ended a glide the start tests missed ([`super::rest`]): the device rests,
+        // and what was held is dropped. With any other velocity the lone lobe was noise and
+        // this is a hand's glide: it is no longer held, nor is a shadow its hold began.
+        if self.tilt.lone() && self.tilt.unreversed() && self.motion.calm_run >= s.fade_ticks {
+            if self.lone_explains(s, velocity) {
+                self.enter_still();
+                return Action::Discard;
+            }
+            self.tilt.end_lone();
+        }
         // A tilt's shadow: the end that comes first decides, one the data tell from the other
         // ([`super::tilt`]).
         if let Some(w) = shadow {

@@ -453,7 +453,7 @@ impl Detector {
         };
         let back = u64::from(m / 3) * u64::from(s.block);
         let onset = self.stream.ticks() - back.min(self.stream.ticks());
-        match self.start(s, onset, false, zero) {
+        match self.start(s, onset, false, false, zero) {
             Action::Start { blocks, .. } => Action::Land { bias: zero, blocks },
             other => other,
         }

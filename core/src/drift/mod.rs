@@ -486,7 +486,10 @@ pub struct DriftSettings {
     pub(crate) alarm_q8: [u64; 3],
     /// Their reference values [sd, Q8]; a first lobe's least height [sd, Q8].
     pub(crate) kappa_q8: [i64; 2],
-    pub(crate) lobe_q8: i64,
+    pub(crate) lobe_q8: i32,
+    /// A lone lobe's least height [sd, Q8]: `ln(n / P_LONE) / (2 kappa)` for the at most
+    /// `n = glide_ticks / 2` runs noise makes over the longest glide ([`rest`]).
+    pub(crate) lone_q8: i32,
     /// The tilt, landing and fall tests' bound squared [sd^2, Q8]; the 2-D tests' chi-square
     /// bound [Q8]; the calibrated q's inflation [sd of its estimate, Q8].
     pub(crate) k2_q8: u64,
@@ -720,7 +723,11 @@ impl Drift {
                 round(pair * 256.0),
             ],
             kappa_q8: t.kappa.map(|k| round(k * 256.0) as i64),
-            lobe_q8: round(t.lobe_sd * 256.0) as i64,
+            lobe_q8: round(t.lobe_sd * 256.0) as i32,
+            lone_q8: {
+                let runs = (self.glide_max_s / tick_s / 2.0).max(1.0);
+                round(libm::log(runs / rest::P_LONE) / (2.0 * t.kappa[0]) * 256.0) as i32
+            },
             k2_q8: round(t.k_sd * t.k_sd * 256.0),
             chi2_q8: u128::from(round(t.chi2 * 256.0)),
             inflation_q8: round(t.q_inflation_sd * 256.0),
@@ -783,7 +790,8 @@ impl DriftSettings {
         for (i, &k) in self.kappa_q8.iter().enumerate() {
             f("kappa", i, k as f64 / 256.0);
         }
-        f("lobe", 0, self.lobe_q8 as f64 / 256.0);
+        f("lobe", 0, f64::from(self.lobe_q8) / 256.0);
+        f("lone", 0, f64::from(self.lone_q8) / 256.0);
         f("k2", 0, q8(self.k2_q8));
         f("chi2", 0, self.chi2_q8 as f64 / 256.0);
         f("inflation", 0, q8(self.inflation_q8));

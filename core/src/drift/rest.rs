@@ -93,10 +93,53 @@
 //! velocity: a slow stroke found half-way loses nothing of its start. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
 //! ramp: its hold runs from now, not from an onset noise may have placed earlier
 //! ([`super::click`]).
+//!
+//! # A lone lobe: the end of a glide the start tests missed
+//! A drag's ramp up and its ramp down are one lobe mirrored, and the glide between shows
+//! nothing. Near the noise floor the ramp up may stay under the alarms while the ramp down,
+//! the same velocity over a shorter time, crosses them: integrated from zero velocity it
+//! then glides backwards at the drag's speed (a new user's drags: 58 of 65 ramp downs found
+//! alone went back more than 2 mm, up to 179 mm). The ramp up left a slow run that did not
+//! alarm; so per horizontal axis the highest slow run since this rest began is kept, if it
+//! was no lobe of a pair (it had no first lobe, and no run of the other side past `lobe_sd`
+//! began within the lobes' gap of its end) and began after the stop's wait (an eighth of
+//! the longest stroke: before, it may be the rest of the motion's deceleration,
+//! [`super::estimator`]). A start on the other side, within the longest glide of its end, is
+//! its **mate**, held until its acceleration reverses, as after a tilt ([`super::tilt`]);
+//! calm unreversed with a velocity that run can have given, reversed, it ended a glide and
+//! is dropped ([`super::estimator`]).
+//!
+//! The run must rise past `lone_sd = ln(n / P_LONE) / (2 kappa)` (10.6 sd at 3 kHz): on
+//! noise a run passes `x` with probability `e^(-2 kappa x)` (the tail above), and at most
+//! `n = glide_ticks / 2` runs end within the longest glide (each takes a tick above zero and
+//! one at it), so noise makes the mate of at most `P_LONE` = 1 % of starts. A stroke so
+//! marked is delivered when its second lobe reverses it (its first lobe's counts late, none
+//! lost); a drag so marked, at its first calm, when its velocity is past what the lone run
+//! can have given. A run that did not alarm gave at most `(h + kappa len) sd` over its
+//! `len` ticks (its height `S = sum (z - kappa)` stayed under the alarm `h`), and its tails
+//! below `kappa` before and after it at most `kappa` sd a tick over the hand-band filter's
+//! span `L1 + L2` each: `(h + kappa (len + 2 (L1 + L2))) sd`.
 
 use super::noise::{Disturbance, Noise};
 use super::ticks::{offset, TickStream};
 use super::{Action, Detector, DriftSettings, State, BLOCKS};
+
+/// The share of starts at most that a lone lobe of noise makes wary (see the module docs):
+/// a run past `ln(n / P_LONE) / (2 kappa)` sd among the `n` runs of a glide's span.
+pub(crate) const P_LONE: f64 = 0.01;
+
+/// A slow run kept as a lone lobe ([`Rest`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Lone {
+    /// The tick it ended (low 32 bits: 248 days of 5 ms ticks).
+    end: u32,
+    /// Its highest value [sd, Q8]; 0 for none (or paired).
+    height: u16,
+    /// Its length [ticks], at most 255 (1.3 s: no ramp is that long).
+    len: u8,
+    /// Its side: 0 positive, 1 negative.
+    side: u8,
+}
 
 /// The start tests' state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -119,6 +162,9 @@ pub struct Rest {
     /// docs); a highest value of 0 for none [Q16 LSB samples]. (The fast one's runs are a
     /// few ticks long: its other side's last run is still the one before when it alarms.)
     lobe: [[(u64, i64); 2]; 2],
+    /// Per horizontal axis, the highest slow run since this rest began, within the longest
+    /// glide, that had no first lobe and no mate since (see the module docs).
+    lone: [Lone; 2],
     /// Per horizontal axis and side, how far the current tick's offset so far may go before
     /// the fast CUSUM alarms on it with a whole tick's drift subtracted [Q16 LSB samples]:
     /// `alarm - S + kappa sd + A` ([`Self::within_headroom`]).
@@ -134,6 +180,7 @@ impl Rest {
         self.run_allow = [0; 2];
         self.last = [[[(tick, 0, tick); 2]; 2]; 2];
         self.lobe = [[(tick, 0); 2]; 2];
+        self.lone = [Lone::default(); 2];
     }
 
     /// Whether a run `(onset, peak, end)` of one side of a CUSUM was the first lobe of a run
@@ -142,6 +189,65 @@ impl Rest {
     fn is_lobe(s: &DriftSettings, run: (u64, i64, u64), own: u64, sd: i64, slack: u64) -> bool {
         let (_, peak, end) = run;
         end + slack >= own && i128::from(peak) << 8 >= i128::from(s.lobe_q8) * i128::from(sd)
+    }
+
+    /// A slow run on `axis`, `side` ended at tick `end`: it becomes the axis's lone lobe
+    /// if it had no first lobe and rises higher than the one kept (or that one is older than
+    /// the longest glide); one of the other side's kept is paired if this run rose past
+    /// `lobe_sd` and began within the lobes' gap of its end (see the module docs).
+    fn end_run(&mut self, s: &DriftSettings, axis: usize, side: usize, end: u64, sd: i64) {
+        let (onset, peak) = (self.onset[0][axis][side], self.peak[0][axis][side]);
+        let height = ((i128::from(peak) << 8) / i128::from(sd.max(1))).clamp(0, 0xFFFF) as u16;
+        let kept = &mut self.lone[axis];
+        let lobe = i32::from(height) >= s.lobe_q8;
+        let since = (onset as u32).wrapping_sub(kept.end) as i32;
+        if lobe && kept.side != side as u8 && since <= s.lobe_slack as i32 {
+            kept.height = 0;
+        }
+        let old = (end as u32).wrapping_sub(kept.end) > s.glide_ticks;
+        if self.lobe[axis][side].1 == 0 && (height > kept.height || old) {
+            *kept = Lone {
+                end: end as u32,
+                height,
+                len: end.saturating_sub(onset).min(255) as u8,
+                side: side as u8,
+            };
+        }
+    }
+
+    /// The lone lobe on `axis`, if it rose past `lone_sd`: its sign, and the most velocity
+    /// it can have given (`V`, Q16 LSB samples) for a tick sum's sd `sd`. It did not alarm:
+    /// over its run it gave `(S + kappa len) sd` with `S` its height, less than the slow alarm
+    /// `h`; its tails below `kappa` before and after the run add at most `kappa` a tick over
+    /// the hand-band filter's span each: `(h + kappa (len + 2 (L1 + L2))) sd` in all.
+    pub(crate) fn lone_velocity(
+        &self,
+        s: &DriftSettings,
+        axis: usize,
+        sd: i64,
+    ) -> Option<(i64, u64)> {
+        let l = self.lone[axis];
+        if i32::from(l.height) < s.lone_q8 {
+            return None;
+        }
+        let ticks = u64::from(l.len) + 2 * u64::from(s.band[0] + s.band[1]);
+        let sd = sd.unsigned_abs();
+        let h = (s.alarm_q8[0] * sd) >> 8;
+        let kappa = (s.kappa_q8[0].unsigned_abs() * sd) >> 8;
+        Some((
+            if l.side == 0 { 1 } else { -1 },
+            h.saturating_add(kappa.saturating_mul(ticks)),
+        ))
+    }
+
+    /// Whether a start on `axis`, `side` whose run began at `onset` may be the end of a
+    /// glide the start tests missed: the axis's lone lobe is of the other side, rose past
+    /// `lone_sd`, and ended before `onset` (it is not this start's first lobe) and within
+    /// the longest glide of it (see the module docs).
+    fn lone_before(&self, s: &DriftSettings, axis: usize, side: usize, onset: u64) -> bool {
+        let kept = self.lone[axis];
+        let age = (onset as u32).wrapping_sub(kept.end);
+        kept.side != side as u8 && i32::from(kept.height) >= s.lone_q8 && age <= s.glide_ticks
     }
 
     /// As the slow CUSUM on `axis`, `side` leaves zero: its first lobe, the other side's
@@ -262,10 +368,14 @@ impl Detector {
         let t = self.stream.ticks();
         let mut alarm: Option<u64> = None;
         let mut step = false;
+        let mut lone = false;
         // The filter remembers L1 + L2 - 1 ticks: until it has forgotten the motion before
         // this rest, only the raw test runs.
         let band_ready = self.age() >= u64::from(s.band[0] + s.band[1] - 1);
         let delay = u64::from(s.band_delay);
+        // A run begun within a stop's wait may be the rest of its deceleration
+        // ([`super::estimator`]): no lone lobe.
+        let settled = self.entered + u64::from(s.fade_ticks);
         // A start replays at most BLOCKS - 1 blocks: one less, for the block the onset is in.
         let replay = (BLOCKS as u64 - 2) * u64::from(s.block);
         for (a, &b) in bias.iter().enumerate().take(2) {
@@ -306,6 +416,9 @@ impl Detector {
                                     .pair(s, a, side, r.peak[0][a][side], sd, limit)
                                     .filter(|&on| t - on.saturating_sub(delay) <= replay);
                             }
+                            if c == 0 && r.onset[0][a][side] >= settled {
+                                r.end_run(s, a, side, t, sd);
+                            }
                             r.last[c][a][side] = (r.onset[c][a][side], r.peak[c][a][side], t);
                         }
                         r.onset[c][a][side] = t;
@@ -336,12 +449,13 @@ impl Detector {
                         let on = on.max(self.entered);
                         alarm = Some(alarm.map_or(on, |o: u64| o.min(on)));
                         step |= c == 1 && z - kappa > limit;
+                        lone |= self.rest.lone_before(s, a, side, on);
                     }
                 }
             }
         }
         if let Some(onset) = alarm {
-            return self.start(s, onset, step, bias);
+            return self.start(s, onset, step, lone, bias);
         }
         self.track_zero(s, bias)
     }
@@ -354,6 +468,7 @@ impl Detector {
         let t = self.stream.ticks();
         let mut alarm: Option<u64> = None;
         let mut step = false;
+        let mut lone = false;
         for (a, &b) in bias.iter().enumerate().take(2) {
             let d = self.stream.partial_offset(a, b);
             for (side, z) in [d, -d].into_iter().enumerate() {
@@ -367,10 +482,11 @@ impl Detector {
                     alarm = Some(alarm.map_or(on, |o: u64| o.min(on)));
                     // Alone past the alarm (the headroom less what the CUSUM held): a step.
                     step |= z > self.rest.headroom[a][side] + sum;
+                    lone |= self.rest.lone_before(s, a, side, on);
                 }
             }
         }
-        alarm.map_or(Action::None, |onset| self.start(s, onset, step, bias))
+        alarm.map_or(Action::None, |onset| self.start(s, onset, step, lone, bias))
     }
 
     /// Whether the velocity of a motion replayed from `blocks` complete blocks back, from
@@ -402,12 +518,14 @@ impl Detector {
 
     /// A motion starts: replay the complete blocks since the one `onset` (a tick) lies in (at
     /// most `BLOCKS - 1`) and the current block's samples so far. It is held until `hold_s`
-    /// after its onset; after a `step` until `hold_s` after now ([`super::click`]).
+    /// after its onset; after a `step` until `hold_s` after now ([`super::click`]); after a
+    /// `lone` lobe until its acceleration reverses ([`super::tilt`]).
     pub(crate) fn start(
         &mut self,
         s: &DriftSettings,
         onset: u64,
         step: bool,
+        lone: bool,
         bias: [i64; 3],
     ) -> Action {
         let done = self.stream.blocks();
@@ -444,10 +562,128 @@ impl Detector {
         let t = self.stream.ticks();
         let age = (t - onset.min(t)) * u64::from(s.tick) + u64::from(self.stream.partial());
         self.click.begin_motion(s, age.min(samples), step);
-        self.count_runs(s, blocks, bias);
+        self.count_runs(s, blocks, lone, bias);
         Action::Start {
             blocks: blocks as usize,
             carry: latent.map_or(shaking.map_or([0; 2], |w| [w[0], w[1]]), |(w, _)| w),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Drift;
+
+    const SD: i64 = 256;
+
+    fn settings() -> DriftSettings {
+        Drift::default()
+            .validate(3000, 9.806_65 * 10.0 / 4096.0)
+            .expect("the default drift control is valid")
+    }
+
+    /// A slow run on X, `side`, from `onset` to `end`, `height` sd high, with a first lobe
+    /// or not, ended as the start tests end one.
+    fn run(
+        r: &mut Rest,
+        s: &DriftSettings,
+        side: usize,
+        (onset, end): (u64, u64),
+        height: f64,
+        lobe: bool,
+    ) {
+        r.onset[0][0][side] = onset;
+        r.peak[0][0][side] = (height * SD as f64) as i64;
+        r.lobe[0][side] = (onset, if lobe { 6 * SD } else { 0 });
+        r.end_run(s, 0, side, end, SD);
+    }
+
+    #[test]
+    fn a_lone_lobe_is_a_run_past_lone_sd_of_the_other_side_within_the_longest_glide() {
+        let s = settings();
+        let lone = f64::from(s.lone_q8) / 256.0;
+        assert!((10.0..11.0).contains(&lone), "{lone}");
+        let mut r = Rest::default();
+        r.reset(0);
+        run(&mut r, &s, 0, (100, 160), lone + 0.1, false);
+        // A start on the other side of X after it: its mate; on its own side or on Y: not.
+        assert!(r.lone_before(&s, 0, 1, 400));
+        assert!(!r.lone_before(&s, 0, 0, 400));
+        assert!(!r.lone_before(&s, 1, 1, 400));
+        // Not one whose run began before it ended (it is that start's first lobe), nor one
+        // past the longest glide after it.
+        assert!(!r.lone_before(&s, 0, 1, 150));
+        assert!(r.lone_before(&s, 0, 1, 160 + u64::from(s.glide_ticks)));
+        assert!(!r.lone_before(&s, 0, 1, 161 + u64::from(s.glide_ticks)));
+        // Under lone_sd: noise's too often.
+        r.reset(0);
+        run(&mut r, &s, 0, (100, 160), lone - 0.1, false);
+        assert!(!r.lone_before(&s, 0, 1, 400));
+    }
+
+    #[test]
+    fn a_lobe_of_a_pair_is_no_lone_lobe() {
+        let s = settings();
+        let slack = u64::from(s.lobe_slack);
+        let mut r = Rest::default();
+        // A first lobe and its second, past lobe_sd, begun within the lobes' gap: neither.
+        r.reset(0);
+        run(&mut r, &s, 0, (100, 160), 15.0, false);
+        run(&mut r, &s, 1, (160 + slack, 250 + slack), 6.0, true);
+        assert!(!r.lone_before(&s, 0, 1, 600));
+        assert!(!r.lone_before(&s, 0, 0, 600));
+        // A second under lobe_sd, or begun past the gap, leaves the first lone.
+        r.reset(0);
+        run(&mut r, &s, 0, (100, 160), 15.0, false);
+        run(&mut r, &s, 1, (170, 200), 4.0, false);
+        assert!(r.lone_before(&s, 0, 1, 600));
+        r.reset(0);
+        run(&mut r, &s, 0, (100, 160), 15.0, false);
+        run(&mut r, &s, 1, (161 + slack, 200 + slack), 6.0, false);
+        assert!(r.lone_before(&s, 0, 1, 600));
+        // A run with a first lobe is a stroke's second: never kept.
+        r.reset(0);
+        run(&mut r, &s, 1, (100, 160), 15.0, true);
+        assert!(!r.lone_before(&s, 0, 0, 400));
+    }
+
+    #[test]
+    fn the_highest_run_is_kept_until_the_longest_glide_has_passed() {
+        let s = settings();
+        let glide = u64::from(s.glide_ticks);
+        let mut r = Rest::default();
+        r.reset(0);
+        run(&mut r, &s, 0, (100, 160), 15.0, false);
+        // A lower run after it does not replace it; a higher one does.
+        run(&mut r, &s, 0, (200, 210), 3.0, false);
+        assert!(r.lone_before(&s, 0, 1, 400));
+        run(&mut r, &s, 1, (300, 310), 16.0, false);
+        assert!(!r.lone_before(&s, 0, 1, 400));
+        assert!(r.lone_before(&s, 0, 0, 400));
+        // Once older than the longest glide, any run replaces it.
+        run(&mut r, &s, 1, (320 + glide, 330 + glide), 3.0, false);
+        assert!(!r.lone_before(&s, 0, 0, 400 + glide));
+        // A rest begins with none.
+        run(&mut r, &s, 0, (2000, 2060), 15.0, false);
+        r.reset(2100);
+        assert!(!r.lone_before(&s, 0, 1, 2200));
+    }
+
+    #[test]
+    fn a_lone_lobe_gave_at_most_the_alarm_and_its_drift_over_its_run_and_tails() {
+        let s = settings();
+        let mut r = Rest::default();
+        r.reset(0);
+        assert_eq!(r.lone_velocity(&s, 0, SD), None);
+        run(&mut r, &s, 1, (100, 160), 15.0, false);
+        let (sign, bound) = r.lone_velocity(&s, 0, SD).expect("past lone_sd");
+        assert_eq!(sign, -1);
+        // (24.5 + 0.5 (60 + 2 (10 + 7))) sd at 3 kHz.
+        let want = (s.alarm_q8[0] as f64 / 256.0
+            + 0.5 * (60.0 + 2.0 * f64::from(s.band[0] + s.band[1])))
+            * SD as f64;
+        assert!((bound as f64 - want).abs() <= 2.0, "{bound} vs {want}");
+        assert_eq!(r.lone_velocity(&s, 1, SD), None);
     }
 }

@@ -180,6 +180,10 @@ pub struct Tilt {
     /// sign seen on each horizontal axis.
     wary: bool,
     first: [i8; 2],
+    /// Wary because it may be the end of a glide the start tests missed ([`super::rest`]):
+    /// calm and unreversed with the lone lobe's velocity, it is dropped
+    /// ([`super::estimator`]).
+    lone: bool,
     /// While a shadow runs: the tilt's direction on each horizontal axis (the sign of its
     /// zeros against the motion's).
     shadow_dir: [i8; 2],
@@ -222,6 +226,21 @@ impl Tilt {
     /// reversed since (see the module docs).
     pub(crate) const fn unreversed(&self) -> bool {
         self.wary
+    }
+
+    /// Whether the motion began as a lone lobe's mate ([`super::rest`]).
+    pub(crate) const fn lone(&self) -> bool {
+        self.lone
+    }
+
+    /// The lone lobe was noise: the motion is no longer wary for it, nor held, nor is a
+    /// shadow its hold began running ([`super::estimator`]; the tilt tests hold it again at
+    /// the next block if they would).
+    pub(crate) fn end_lone(&mut self) {
+        self.wary = false;
+        self.lone = false;
+        self.held = false;
+        self.shadow = None;
     }
 
     /// Whether the shadow's acceleration has gone against the tilt's direction on X or Y
@@ -277,12 +296,20 @@ impl Detector {
     }
 
     /// The runs at a motion's start: counted back over its replayed blocks (`blocks` whole
-    /// blocks since its onset).
-    pub(crate) fn count_runs(&mut self, s: &DriftSettings, blocks: u64, bias: [i64; 3]) {
-        let wary = self.stream.ticks() < self.tilted_until;
+    /// blocks since its onset). It is wary soon after a tilt's new zero, or as the mate of a
+    /// `lone` lobe ([`super::rest`]).
+    pub(crate) fn count_runs(
+        &mut self,
+        s: &DriftSettings,
+        blocks: u64,
+        lone: bool,
+        bias: [i64; 3],
+    ) {
+        let wary = lone || self.stream.ticks() < self.tilted_until;
         self.tilt = Tilt {
             wary,
             held: wary,
+            lone,
             ..Tilt::default()
         };
         for scale in 0..2 {
