@@ -413,16 +413,17 @@ impl Detector {
         // unproven: not computed otherwise (two 128-bit variances, most ticks of a stroke).
         let explained = (quiet || self.motion.unproven)
             && self.velocity_explained(s, velocity, self.motion.samples, self.bias_samples);
-        // A lone lobe's mate that went calm unreversed, its velocity the lone lobe's
-        // reversed, ended a glide the start tests missed ([`super::rest`]): the device rests,
-        // and what was held is dropped. With any other velocity the lone lobe was noise and
-        // this is a hand's glide: it is no longer held, nor is a shadow its hold began.
-        if self.tilt.lone() && self.tilt.unreversed() && self.motion.calm_run >= s.fade_ticks {
-            if self.lone_explains(s, velocity) {
+        // A lone lobe's mate ([`super::rest`]): once its velocity is past what the lone lobe
+        // can have given, reversed, the lone lobe was noise and this is a hand's motion: no
+        // longer held, nor a shadow its hold began. Calm unreversed within it, it ended a
+        // glide the start tests missed: the device rests, and what was held is dropped.
+        if self.tilt.lone() && self.tilt.unreversed() {
+            if !self.lone_explains(s, velocity) {
+                self.tilt.end_lone();
+            } else if self.motion.calm_run >= s.fade_ticks {
                 self.enter_still();
                 return Action::Discard;
             }
-            self.tilt.end_lone();
         }
         // A tilt's shadow: the end that comes first decides, one the data tell from the other
         // ([`super::tilt`]).

@@ -100,25 +100,30 @@
 //! the same velocity over a shorter time, crosses them: integrated from zero velocity it
 //! then glides backwards at the drag's speed (a new user's drags: 58 of 65 ramp downs found
 //! alone went back more than 2 mm, up to 179 mm). The ramp up left a slow run that did not
-//! alarm; so per horizontal axis the highest slow run since this rest began is kept, if it
-//! was no lobe of a pair (it had no first lobe, and no run of the other side past `lobe_sd`
-//! began within the lobes' gap of its end) and began after the stop's wait (an eighth of
-//! the longest stroke: before, it may be the rest of the motion's deceleration,
-//! [`super::estimator`]). A start on the other side, within the longest glide of its end, is
-//! its **mate**, held until its acceleration reverses, as after a tilt ([`super::tilt`]);
-//! calm unreversed with a velocity that run can have given, reversed, it ended a glide and
+//! alarm. So per horizontal axis the highest slow run since this rest began is kept, if it
+//! had no first lobe and began after the stop's wait (an eighth of the longest stroke:
+//! before, it may be the rest of the motion's deceleration, [`super::estimator`]). A run of
+//! the other side past `lobe_sd` that begins within the lobes' gap of its end is its pair
+//! (a stroke): none is kept. One that begins later, with no first lobe of its own, took
+//! back its length of the kept run's (a ramp down missed too: the glide is over), and what
+//! it gave beyond is kept as its own. A start on the other side of the kept run, within the
+//! longest glide of its end, is its **mate**, held until its acceleration reverses, as
+//! after a tilt ([`super::tilt`]). The estimator ends the wait: once the mate's velocity is
+//! past what the kept run can have given, reversed, that run was noise or a glide that
+//! ended, and the mate is a hand's; calm unreversed within it, it ended the glide, and it
 //! is dropped ([`super::estimator`]).
 //!
 //! The run must rise past `lone_sd = ln(n / P_LONE) / (2 kappa)` (10.6 sd at 3 kHz): on
 //! noise a run passes `x` with probability `e^(-2 kappa x)` (the tail above), and at most
 //! `n = glide_ticks / 2` runs end within the longest glide (each takes a tick above zero and
-//! one at it), so noise makes the mate of at most `P_LONE` = 1 % of starts. A stroke so
-//! marked is delivered when its second lobe reverses it (its first lobe's counts late, none
-//! lost); a drag so marked, at its first calm, when its velocity is past what the lone run
-//! can have given. A run that did not alarm gave at most `(h + kappa len) sd` over its
-//! `len` ticks (its height `S = sum (z - kappa)` stayed under the alarm `h`), and its tails
-//! below `kappa` before and after it at most `kappa` sd a tick over the hand-band filter's
-//! span `L1 + L2` each: `(h + kappa (len + 2 (L1 + L2))) sd`.
+//! one at it), so noise makes the mate of at most `P_LONE` = 1 % of starts. What a kept run
+//! can have given: its increments `z - kappa` summed to zero or less where it ended, so its
+//! ticks' offsets sum to at most `kappa len` sd over its `len` ticks; its tails below
+//! `kappa` before and after it add at most `kappa` sd a tick over the hand-band filter's
+//! span `L1 + L2` each: `kappa (len + 2 (L1 + L2)) sd` in all, the mate's velocity within
+//! `K_TILT` of its own sd of that.
+
+use core::cmp::Ordering;
 
 use super::noise::{Disturbance, Noise};
 use super::ticks::{offset, TickStream};
@@ -192,34 +197,59 @@ impl Rest {
     }
 
     /// A slow run on `axis`, `side` ended at tick `end`: it becomes the axis's lone lobe
-    /// if it had no first lobe and rises higher than the one kept (or that one is older than
-    /// the longest glide); one of the other side's kept is paired if this run rose past
-    /// `lobe_sd` and began within the lobes' gap of its end (see the module docs).
+    /// if it had no first lobe and rises higher than the one kept (or there is none, or it is
+    /// older than the longest glide). Past `lobe_sd` on the other side, it pairs the kept one
+    /// if it began within the lobes' gap of its end (a stroke), and later, with no first
+    /// lobe, takes back its length of the kept one's (see the module docs).
     fn end_run(&mut self, s: &DriftSettings, axis: usize, side: usize, end: u64, sd: i64) {
         let (onset, peak) = (self.onset[0][axis][side], self.peak[0][axis][side]);
         let height = ((i128::from(peak) << 8) / i128::from(sd.max(1))).clamp(0, 0xFFFF) as u16;
+        let first = self.lobe[axis][side].1 != 0;
+        let this = Lone {
+            end: end as u32,
+            height,
+            len: end.saturating_sub(onset).min(255) as u8,
+            side: side as u8,
+        };
         let kept = &mut self.lone[axis];
-        let lobe = i32::from(height) >= s.lobe_q8;
-        let since = (onset as u32).wrapping_sub(kept.end) as i32;
-        if lobe && kept.side != side as u8 && since <= s.lobe_slack as i32 {
-            kept.height = 0;
+        let live = i32::from(kept.height) >= s.lobe_q8
+            && (end as u32).wrapping_sub(kept.end) <= s.glide_ticks;
+        if live && kept.side != this.side {
+            if i32::from(height) < s.lobe_q8 {
+                return;
+            }
+            let since = (onset as u32).wrapping_sub(kept.end) as i32;
+            if since <= s.lobe_slack as i32 {
+                // Its pair: a stroke.
+                *kept = Lone::default();
+            } else if !first {
+                // Later, alone: it took back as much of the velocity the kept run gave (a
+                // glide's ramp down, missed too), and what it gave beyond is its own.
+                *kept = match kept.len.cmp(&this.len) {
+                    Ordering::Greater => Lone {
+                        len: kept.len - this.len,
+                        ..*kept
+                    },
+                    Ordering::Equal => Lone::default(),
+                    Ordering::Less => Lone {
+                        len: this.len - kept.len,
+                        ..this
+                    },
+                };
+            }
+            return;
         }
-        let old = (end as u32).wrapping_sub(kept.end) > s.glide_ticks;
-        if self.lobe[axis][side].1 == 0 && (height > kept.height || old) {
-            *kept = Lone {
-                end: end as u32,
-                height,
-                len: end.saturating_sub(onset).min(255) as u8,
-                side: side as u8,
-            };
+        if !first && (!live || height > kept.height) {
+            *kept = this;
         }
     }
 
     /// The lone lobe on `axis`, if it rose past `lone_sd`: its sign, and the most velocity
-    /// it can have given (`V`, Q16 LSB samples) for a tick sum's sd `sd`. It did not alarm:
-    /// over its run it gave `(S + kappa len) sd` with `S` its height, less than the slow alarm
-    /// `h`; its tails below `kappa` before and after the run add at most `kappa` a tick over
-    /// the hand-band filter's span each: `(h + kappa (len + 2 (L1 + L2))) sd` in all.
+    /// it can have given (`V`, Q16 LSB samples) for a tick sum's sd `sd`. Its run's
+    /// increments `z - kappa` summed to zero or less where the run ended: it gave at most
+    /// `kappa len` sd over its `len` ticks (less what later runs of the other side took
+    /// back); its tails below `kappa` before and after the run at most `kappa` a tick over
+    /// the hand-band filter's span each: `kappa (len + 2 (L1 + L2)) sd` in all.
     pub(crate) fn lone_velocity(
         &self,
         s: &DriftSettings,
@@ -231,12 +261,10 @@ impl Rest {
             return None;
         }
         let ticks = u64::from(l.len) + 2 * u64::from(s.band[0] + s.band[1]);
-        let sd = sd.unsigned_abs();
-        let h = (s.alarm_q8[0] * sd) >> 8;
-        let kappa = (s.kappa_q8[0].unsigned_abs() * sd) >> 8;
+        let kappa = (s.kappa_q8[0].unsigned_abs() * sd.unsigned_abs()) >> 8;
         Some((
             if l.side == 0 { 1 } else { -1 },
-            h.saturating_add(kappa.saturating_mul(ticks)),
+            kappa.saturating_mul(ticks),
         ))
     }
 
@@ -649,29 +677,49 @@ mod tests {
     }
 
     #[test]
-    fn the_highest_run_is_kept_until_the_longest_glide_has_passed() {
+    fn the_highest_run_is_kept_and_a_later_one_of_the_other_side_takes_back_its_length() {
         let s = settings();
         let glide = u64::from(s.glide_ticks);
+        let tails = 2 * u64::from(s.band[0] + s.band[1]);
+        // The velocity bound of a kept run of `len` ticks (kappa 1/2).
+        let bound = |len: u64| (len + tails) * SD as u64 / 2;
         let mut r = Rest::default();
         r.reset(0);
         run(&mut r, &s, 0, (100, 160), 15.0, false);
-        // A lower run after it does not replace it; a higher one does.
+        // A lower run of its side after it does not replace it.
         run(&mut r, &s, 0, (200, 210), 3.0, false);
-        assert!(r.lone_before(&s, 0, 1, 400));
-        run(&mut r, &s, 1, (300, 310), 16.0, false);
-        assert!(!r.lone_before(&s, 0, 1, 400));
-        assert!(r.lone_before(&s, 0, 0, 400));
+        assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(60))));
+        // One of the other side under lobe_sd is noise's: nothing taken back.
+        run(&mut r, &s, 1, (220, 230), 4.0, false);
+        assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(60))));
+        // Past the lobes' gap and past lobe_sd, it takes back its length.
+        let t = 160 + u64::from(s.lobe_slack) + 40;
+        run(&mut r, &s, 1, (t, t + 10), 16.0, false);
+        assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(50))));
+        assert!(r.lone_before(&s, 0, 1, t + 100));
+        // Longer than what is left: the rest is its own, of its side.
+        run(&mut r, &s, 1, (t + 20, t + 90), 16.0, false);
+        assert_eq!(r.lone_velocity(&s, 0, SD), Some((-1, bound(20))));
+        assert!(r.lone_before(&s, 0, 0, t + 200));
+        assert!(!r.lone_before(&s, 0, 1, t + 200));
         // Once older than the longest glide, any run replaces it.
-        run(&mut r, &s, 1, (320 + glide, 330 + glide), 3.0, false);
-        assert!(!r.lone_before(&s, 0, 0, 400 + glide));
+        run(
+            &mut r,
+            &s,
+            0,
+            (t + 100 + glide, t + 110 + glide),
+            3.0,
+            false,
+        );
+        assert!(!r.lone_before(&s, 0, 0, t + 200 + glide));
         // A rest begins with none.
-        run(&mut r, &s, 0, (2000, 2060), 15.0, false);
-        r.reset(2100);
-        assert!(!r.lone_before(&s, 0, 1, 2200));
+        run(&mut r, &s, 0, (9000, 9060), 15.0, false);
+        r.reset(9100);
+        assert!(!r.lone_before(&s, 0, 1, 9200));
     }
 
     #[test]
-    fn a_lone_lobe_gave_at_most_the_alarm_and_its_drift_over_its_run_and_tails() {
+    fn a_lone_lobe_gave_at_most_its_drift_over_its_run_and_tails() {
         let s = settings();
         let mut r = Rest::default();
         r.reset(0);
@@ -679,10 +727,8 @@ mod tests {
         run(&mut r, &s, 1, (100, 160), 15.0, false);
         let (sign, bound) = r.lone_velocity(&s, 0, SD).expect("past lone_sd");
         assert_eq!(sign, -1);
-        // (24.5 + 0.5 (60 + 2 (10 + 7))) sd at 3 kHz.
-        let want = (s.alarm_q8[0] as f64 / 256.0
-            + 0.5 * (60.0 + 2.0 * f64::from(s.band[0] + s.band[1])))
-            * SD as f64;
+        // 0.5 (60 + 2 (10 + 7)) sd at 3 kHz.
+        let want = 0.5 * (60.0 + 2.0 * f64::from(s.band[0] + s.band[1])) * SD as f64;
         assert!((bound as f64 - want).abs() <= 2.0, "{bound} vs {want}");
         assert_eq!(r.lone_velocity(&s, 1, SD), None);
     }

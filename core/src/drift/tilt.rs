@@ -181,7 +181,7 @@ pub struct Tilt {
     wary: bool,
     first: [i8; 2],
     /// Wary because it may be the end of a glide the start tests missed ([`super::rest`]):
-    /// calm and unreversed with the lone lobe's velocity, it is dropped
+    /// calm and unreversed within the lone lobe's velocity, it is dropped
     /// ([`super::estimator`]).
     lone: bool,
     /// While a shadow runs: the tilt's direction on each horizontal axis (the sign of its
@@ -233,14 +233,11 @@ impl Tilt {
         self.lone
     }
 
-    /// The lone lobe was noise: the motion is no longer wary for it, nor held, nor is a
-    /// shadow its hold began running ([`super::estimator`]; the tilt tests hold it again at
-    /// the next block if they would).
+    /// The lone lobe was noise, or a glide that ended: the motion is no longer wary for it
+    /// (its hold ends at the next block, [`super::estimator`]).
     pub(crate) fn end_lone(&mut self) {
         self.wary = false;
         self.lone = false;
-        self.held = false;
-        self.shadow = None;
     }
 
     /// Whether the shadow's acceleration has gone against the tilt's direction on X or Y
