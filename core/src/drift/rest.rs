@@ -443,9 +443,9 @@ impl Detector {
                                 pair = r
                                     .pair(s, a, side, r.peak[0][a][side], sd, limit)
                                     .filter(|&on| t - on.saturating_sub(delay) <= replay);
-                            }
-                            if c == 0 && r.onset[0][a][side] >= settled {
-                                r.end_run(s, a, side, t, sd);
+                                if r.onset[0][a][side] >= settled {
+                                    r.end_run(s, a, side, t, sd);
+                                }
                             }
                             r.last[c][a][side] = (r.onset[c][a][side], r.peak[c][a][side], t);
                         }
@@ -628,6 +628,25 @@ mod tests {
     }
 
     #[test]
+    fn lone_sd_is_the_height_noise_passes_in_p_lone_of_a_glides_runs() {
+        // ln(400 / 0.01) / (2 kappa): 10.6 sd at kappa 1/2, twice that at 1/4.
+        let want = |kappa: f64| libm::log(800.0 / 2.0 / P_LONE) / (2.0 * kappa);
+        let lone = f64::from(settings().lone_q8) / 256.0;
+        assert!((lone - want(0.5)).abs() <= 0.5 / 256.0, "{lone}");
+        let quarter = Drift {
+            tuning: crate::drift::Tuning {
+                kappa: [0.25, 1.5],
+                ..crate::drift::Tuning::default()
+            },
+            ..Drift::default()
+        }
+        .validate(3000, 9.806_65 * 10.0 / 4096.0)
+        .expect("valid");
+        let lone = f64::from(quarter.lone_q8) / 256.0;
+        assert!((lone - want(0.25)).abs() <= 0.5 / 256.0, "{lone}");
+    }
+
+    #[test]
     fn a_lone_lobe_is_a_run_past_lone_sd_of_the_other_side_within_the_longest_glide() {
         let s = settings();
         let lone = f64::from(s.lone_q8) / 256.0;
@@ -644,10 +663,14 @@ mod tests {
         assert!(!r.lone_before(&s, 0, 1, 150));
         assert!(r.lone_before(&s, 0, 1, 160 + u64::from(s.glide_ticks)));
         assert!(!r.lone_before(&s, 0, 1, 161 + u64::from(s.glide_ticks)));
-        // Under lone_sd: noise's too often.
+        // Under lone_sd: noise's too often; at it, a lone lobe.
         r.reset(0);
         run(&mut r, &s, 0, (100, 160), lone - 0.1, false);
         assert!(!r.lone_before(&s, 0, 1, 400));
+        assert_eq!(r.lone_velocity(&s, 0, SD), None);
+        r.reset(0);
+        run(&mut r, &s, 0, (100, 160), lone, false);
+        assert!(r.lone_velocity(&s, 0, SD).is_some());
     }
 
     #[test]
@@ -686,15 +709,22 @@ mod tests {
         let mut r = Rest::default();
         r.reset(0);
         run(&mut r, &s, 0, (100, 160), 15.0, false);
-        // A lower run of its side after it does not replace it.
+        // A lower or as high run of its side after it does not replace it; a higher one does.
         run(&mut r, &s, 0, (200, 210), 3.0, false);
+        run(&mut r, &s, 0, (220, 230), 15.0, false);
         assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(60))));
+        run(&mut r, &s, 0, (240, 270), 15.5, false);
+        assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(30))));
+        r.reset(0);
+        run(&mut r, &s, 0, (100, 160), 15.0, false);
         // One of the other side under lobe_sd is noise's: nothing taken back.
-        run(&mut r, &s, 1, (220, 230), 4.0, false);
+        run(&mut r, &s, 1, (220, 230), 4.9, false);
         assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(60))));
-        // Past the lobes' gap and past lobe_sd, it takes back its length.
+        // Past the lobes' gap, at lobe_sd or past it, it takes back its length.
         let t = 160 + u64::from(s.lobe_slack) + 40;
-        run(&mut r, &s, 1, (t, t + 10), 16.0, false);
+        run(&mut r, &s, 1, (t, t + 5), 5.0, false);
+        assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(55))));
+        run(&mut r, &s, 1, (t + 10, t + 15), 16.0, false);
         assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(50))));
         assert!(r.lone_before(&s, 0, 1, t + 100));
         // Longer than what is left: the rest is its own, of its side.
@@ -702,16 +732,11 @@ mod tests {
         assert_eq!(r.lone_velocity(&s, 0, SD), Some((-1, bound(20))));
         assert!(r.lone_before(&s, 0, 0, t + 200));
         assert!(!r.lone_before(&s, 0, 1, t + 200));
-        // Once older than the longest glide, any run replaces it.
-        run(
-            &mut r,
-            &s,
-            0,
-            (t + 100 + glide, t + 110 + glide),
-            3.0,
-            false,
-        );
-        assert!(!r.lone_before(&s, 0, 0, t + 200 + glide));
+        // Once older than the longest glide, any run replaces it, a lower one too.
+        let late = t + 100 + glide;
+        run(&mut r, &s, 0, (late, late + 40), 12.0, false);
+        assert_eq!(r.lone_velocity(&s, 0, SD), Some((1, bound(40))));
+        assert!(!r.lone_before(&s, 0, 0, late + 100));
         // A rest begins with none.
         run(&mut r, &s, 0, (9000, 9060), 15.0, false);
         r.reset(9100);
