@@ -303,17 +303,34 @@ fn a_glide_fades_through_small_jolts_that_are_no_deceleration() {
 }
 
 /// The largest retreat of the cursor's X below its running maximum over `n` samples.
-fn max_retreat(t: &mut Tracker, n: usize, mut f: impl FnMut(usize) -> [u16; 3]) -> i64 {
-    let (mut pos, mut best, mut retreat) = (0i64, 0i64, 0i64);
+fn max_retreat(t: &mut Tracker, n: usize, f: impl FnMut(usize) -> [u16; 3]) -> i64 {
+    drag_run(t, n, (0, n, 1), f).0
+}
+
+/// Over `n` samples of `f`, the counts along `dir` X (+1 or -1) delivered from sample `from`
+/// on: their largest pull-back below their running maximum, and their sum by sample `at`.
+fn drag_run(
+    t: &mut Tracker,
+    n: usize,
+    (from, at, dir): (usize, usize, i64),
+    mut f: impl FnMut(usize) -> [u16; 3],
+) -> (i64, i64) {
+    let (mut pos, mut best, mut retreat, mut then) = (0i64, 0i64, 0i64, 0i64);
     for i in 0..n {
         t.feed(&[f(i)]);
         if i % 3 == 2 {
-            pos += i64::from(t.take_counts()[0]);
-            best = best.max(pos);
-            retreat = retreat.max(best - pos);
+            let c = dir * i64::from(t.take_counts()[0]);
+            if i >= from {
+                pos += c;
+                best = best.max(pos);
+                retreat = retreat.max(best - pos);
+            }
+        }
+        if i == at {
+            then = pos;
         }
     }
-    retreat
+    (retreat, then)
 }
 
 #[test]
@@ -2231,29 +2248,6 @@ fn unseen_ramp(i: usize) -> i64 {
     }
 }
 
-/// The largest pull-back along `dir` X (+1 or -1) over `n` samples of `f`, and the counts
-/// along it delivered by sample `at`.
-fn drag_run(
-    t: &mut Tracker,
-    n: usize,
-    (at, dir): (usize, i64),
-    mut f: impl FnMut(usize) -> [u16; 3],
-) -> (i64, i64) {
-    let (mut pos, mut best, mut retreat, mut then) = (0i64, 0i64, 0i64, 0i64);
-    for i in 0..n {
-        t.feed(&[f(i)]);
-        if i % 3 == 2 {
-            pos += dir * i64::from(t.take_counts()[0]);
-            best = best.max(pos);
-            retreat = retreat.max(best - pos);
-        }
-        if i == at {
-            then = pos;
-        }
-    }
-    (retreat, then)
-}
-
 #[test]
 fn a_drag_whose_ramp_up_is_missed_does_not_run_back_at_its_ramp_down() {
     // The ramp up's slow run rises 10 to 22 sd over 24 noise draws, under the alarm (24.5
@@ -2281,23 +2275,12 @@ fn a_drag_whose_ramp_up_is_missed_does_not_run_back_at_its_ramp_down() {
         for seed in 1..=24 {
             let mut t = tracker(Some(Drift::default()));
             let mut n = Noise(Trace::new(seed));
-            // The counts from just before the ramp up: at the glide's middle, and the most
-            // they went back.
-            let (mut pos, mut best, mut retreat, mut mid) = (0i64, 0i64, 0i64, 0i64);
-            for i in 0..lead + 24_000 {
-                t.feed(&[dithered(i, &mut n, scene)]);
-                if i % 3 == 2 {
-                    let c = i64::from(t.take_counts()[0]);
-                    if i >= lead + 2900 {
-                        pos += c;
-                        best = best.max(pos);
-                        retreat = retreat.max(best - pos);
-                    }
-                }
-                if i == lead + 9000 {
-                    mid = pos;
-                }
-            }
+            // The counts from just before the ramp up: the most they went back, and their
+            // sum at the glide's middle.
+            let (retreat, mid) =
+                drag_run(&mut t, lead + 24_000, (lead + 2900, lead + 9000, 1), |i| {
+                    dithered(i, &mut n, scene)
+                });
             if mid == 0 {
                 missed += 1;
                 if retreat > 63 {
@@ -2345,7 +2328,9 @@ fn a_brisk_drag_after_a_lone_lobe_is_a_hands_and_is_delivered_as_it_goes() {
     for seed in 1..=24 {
         let mut t = tracker(Some(Drift::default()));
         let mut n = Noise(Trace::new(seed));
-        let (retreat, mid) = drag_run(&mut t, 18_000, (9299, -1), |i| dithered(i, &mut n, scene));
+        let (retreat, mid) = drag_run(&mut t, 18_000, (0, 9299, -1), |i| {
+            dithered(i, &mut n, scene)
+        });
         let mid = mid as f64;
         assert!(
             mid > 0.97 * hand && mid < 1.03 * drag,
