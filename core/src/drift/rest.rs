@@ -51,7 +51,9 @@
 //! second lobe's run ends, the stroke over: the motion starts from the first lobe's onset
 //! with every block since replayed, and arrives whole at once, its latency the stroke's
 //! duration. A start replays at most `BLOCKS - 1` blocks (1.26 s), so for a longer stroke
-//! the sum is also checked once, as the first lobe's onset is about to leave them; a pair
+//! the sum is also checked once, as the first lobe's onset is about to leave them, with the
+//! second run's highest value so far (as at its end: its value at that tick, falling, lost
+//! strokes of 1.2 to 1.3 s whose run ended a few ticks later); a pair
 //! whose first lobe has left starts nothing. A replay from the oldest block would start the
 //! motion mid-way from zero velocity: a new user's out-and-back strokes, whose middle lobes
 //! of one sign make one run, glided 340 to 620 mm that way (the tests with their controls:
@@ -456,8 +458,11 @@ impl Detector {
                             if before == 0 {
                                 r.take_lobe(s, a, side, sd);
                             }
+                            // The run's highest value, as at its end: a stroke's second
+                            // lobe may have peaked and be falling by then.
+                            let high = r.peak[0][a][side].max(net);
                             pair = r
-                                .pair(s, a, side, net, sd, limit)
+                                .pair(s, a, side, high, sd, limit)
                                 .filter(|&on| t - on.saturating_sub(delay) == replay);
                         }
                         r.peak[c][a][side] = r.peak[c][a][side].max(net);
