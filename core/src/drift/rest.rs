@@ -92,7 +92,14 @@
 //! over 1.57 s: 3.2 m). The gap only widens the match; noise reaches 5 sd in the same 0.7 %
 //! of runs, and a false match moves the onset back by that run only. The blocks
 //! since the onset (at most [`super::BLOCKS`] - 1, 1.28 s) are integrated at once, from zero
-//! velocity: a slow stroke found half-way loses nothing of its start. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
+//! velocity: a slow stroke found half-way loses nothing of its start. A stroke's lobes come
+//! on both axes at once, and noise may leave one axis's first lobe under `lobe_sd` while the
+//! other's passes it: a start also begins at the first lobe of a slow run going on, on
+//! either axis, that has one and has itself risen past `lobe_sd` (a new user's 14.9 mm
+//! stroke over 1.61 s alarmed on Y's second lobe alone and glided back 209 mm from zero
+//! velocity there; X's second run was going on after a first lobe of 5.2 sd). Noise makes
+//! such a pair, both runs past `lobe_sd` within the gap, in well under 0.7 % squared of
+//! runs, and a false one only replays more blocks of rest. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
 //! ramp: its hold runs from now, not from an onset noise may have placed earlier
 //! ([`super::click`]).
 //!
@@ -298,6 +305,27 @@ impl Rest {
         };
     }
 
+    /// A start's onset `onset`, moved back to the first lobe's (less the filter's delay) of
+    /// a slow run going on that rose past `lobe_sd` after a first lobe, on either horizontal
+    /// axis: a stroke's lobes come on both axes at once, and the axis that alarmed may have
+    /// seen no first lobe of its own (see the module docs). `sd`: each axis's tick sd [Q16
+    /// LSB samples].
+    fn first_lobe_across(&self, s: &DriftSettings, onset: u64, sd: [i64; 2]) -> u64 {
+        let delay = u64::from(s.band_delay);
+        let mut on = onset;
+        for (a, &sd) in sd.iter().enumerate() {
+            for side in 0..2 {
+                let (first, peak) = self.lobe[a][side];
+                let lobe = i128::from(self.peak[0][a][side]) << 8
+                    >= i128::from(s.lobe_q8) * i128::from(sd);
+                if self.cusum[0][a][side] > 0 && peak != 0 && lobe {
+                    on = on.min(first.saturating_sub(delay));
+                }
+            }
+        }
+        on
+    }
+
     /// The onset of the run of CUSUM `c` on `axis`, `side` that alarmed: its first lobe's
     /// if it had one, else its own.
     fn onset_of(&self, s: &DriftSettings, c: usize, axis: usize, side: usize, sd: i64) -> u64 {
@@ -488,6 +516,8 @@ impl Detector {
             }
         }
         if let Some(onset) = alarm {
+            let sd = [self.noise[0].sd_q16, self.noise[1].sd_q16];
+            let onset = self.rest.first_lobe_across(s, onset, sd).max(self.entered);
             return self.start(s, onset, step, lone, bias);
         }
         self.track_zero(s, bias)
