@@ -316,9 +316,10 @@ impl Rest {
         for (a, &sd) in sd.iter().enumerate() {
             for side in 0..2 {
                 let (first, peak) = self.lobe[a][side];
+                // The current run's highest value (0 once it has ended).
                 let lobe = i128::from(self.peak[0][a][side]) << 8
                     >= i128::from(s.lobe_q8) * i128::from(sd);
-                if self.cusum[0][a][side] > 0 && peak != 0 && lobe {
+                if peak != 0 && lobe {
                     on = on.min(first.saturating_sub(delay));
                 }
             }
