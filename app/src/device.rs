@@ -119,8 +119,9 @@ pub const fn block_len(fs_hz: u32) -> usize {
 }
 
 /// The tracker's configuration at `fs_hz` [Hz]: the core's default for this device (an
-/// ADXL335, 300 mV/g at 3.3 V, ratiometric, on a 12-bit ADC, 800 counts per inch, drift
-/// control on; REFERENCE (g)) at that rate.
+/// ADXL335, ratiometric: 300 mV/g at a 3 V supply, 330 mV/g at the board's 3.3 V, so 10 g
+/// across a 12-bit ADC referenced to the same 3.3 V; 800 counts per inch, drift control on;
+/// REFERENCE (g)) at that rate.
 pub fn tracker_config(fs_hz: u32) -> Config {
     Config {
         fs_hz,

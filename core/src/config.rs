@@ -70,8 +70,9 @@ pub struct Config {
     /// Valid: `fs * 1e-6 <= fc < fs / 2`.
     pub lowpass_fc_hz: Option<f64>,
     /// Acceleration per ADC LSB [m/s^2], finite, with a full scale `m_s2_per_lsb *
-    /// 2^adc_bits` within [`FULL_SCALE_MIN_M_S2`]`..=`[`FULL_SCALE_MAX_M_S2`] (an ADXL335 at
-    /// 300 mV/g on a 12-bit ratiometric ADC: `9.80665 * 10 / 4096 = 0.023942`, 10 g).
+    /// 2^adc_bits` within [`FULL_SCALE_MIN_M_S2`]`..=`[`FULL_SCALE_MAX_M_S2`] (an ADXL335,
+    /// ratiometric, 300 mV/g at 3 V and so 330 mV/g at 3.3 V, on a 12-bit ADC referenced to
+    /// the same 3.3 V: 10 g over 4096 codes, `9.80665 * 10 / 4096 = 0.023942`).
     pub m_s2_per_lsb: f64,
     /// ADC resolution [bits], `2..=16` (at 1 bit both codes are rails, and no calibration
     /// could ever succeed). Codes `0` and `2^bits - 1` are the rails: a
