@@ -202,7 +202,18 @@ impl Rest {
     /// above `lobe_sd` (see the module docs).
     fn is_lobe(s: &DriftSettings, run: (u64, i64, u64), own: u64, sd: i64, slack: u64) -> bool {
         let (_, peak, end) = run;
-        end + slack >= own && i128::from(peak) << 8 >= i128::from(s.lobe_q8) * i128::from(sd)
+        end + slack >= own && Self::lobe_high(s, peak, sd)
+    }
+
+    /// Whether a run's highest value `peak` [Q16 LSB samples] reached `lobe_sd` for a tick
+    /// sum's sd `sd`.
+    fn lobe_high(s: &DriftSettings, peak: i64, sd: i64) -> bool {
+        i128::from(peak) << 8 >= i128::from(s.lobe_q8) * i128::from(sd)
+    }
+
+    /// `kappa sd` of CUSUM `c` (0 slow, 1 fast) for a tick sum's sd `sd` [Q16 LSB samples].
+    fn kappa_sd(s: &DriftSettings, c: usize, sd: i64) -> i64 {
+        (s.kappa_q8[c] * sd) >> 8
     }
 
     /// A slow run on `axis`, `side` ended at tick `end`: it becomes the axis's lone lobe
@@ -270,7 +281,7 @@ impl Rest {
             return None;
         }
         let ticks = u64::from(l.len) + 2 * u64::from(s.band[0] + s.band[1]);
-        let kappa = (s.kappa_q8[0].unsigned_abs() * sd.unsigned_abs()) >> 8;
+        let kappa = Self::kappa_sd(s, 0, sd).unsigned_abs();
         Some((
             if l.side == 0 { 1 } else { -1 },
             kappa.saturating_mul(ticks),
@@ -315,11 +326,9 @@ impl Rest {
         let mut on = onset;
         for (a, &sd) in sd.iter().enumerate() {
             for side in 0..2 {
-                let (first, peak) = self.lobe[a][side];
-                // The current run's highest value (0 once it has ended).
-                let lobe = i128::from(self.peak[0][a][side]) << 8
-                    >= i128::from(s.lobe_q8) * i128::from(sd);
-                if peak != 0 && lobe {
+                let (first, first_peak) = self.lobe[a][side];
+                // The current run's highest value is 0 once it has ended.
+                if first_peak != 0 && Self::lobe_high(s, self.peak[0][a][side], sd) {
                     on = on.min(first.saturating_sub(delay));
                 }
             }
@@ -375,7 +384,7 @@ impl Rest {
     /// one (see the module docs).
     fn limits(s: &DriftSettings, n: &Noise, d: &Disturbance, c: usize) -> (i64, i64, i64) {
         let sd = n.sd_q16;
-        let kappa = (s.kappa_q8[c] * sd) >> 8;
+        let kappa = Self::kappa_sd(s, c, sd);
         let alarm = Self::alarm(s.alarm_q8[c], sd);
         if c == 0 {
             (kappa, alarm, d.allow(d.gains(s).band_run_q16, 1) as i64)
