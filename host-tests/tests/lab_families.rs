@@ -11,7 +11,8 @@
 //! full families (200 trials each) are `cargo lab mouse`.
 
 use host_tests::commands::mouse::families::{self, Family, Kind};
-use host_tests::world::hand::{Motion, Scenario};
+use host_tests::world::hand::{Motion, Scenario, Sensor, SensorSpec};
+use host_tests::world::noise;
 use imu_core::drift::Tuning;
 use imu_core::Drift;
 
@@ -446,7 +447,7 @@ fn every_family_has_its_name_and_a_trace() {
     let t = families::trace(
         Kind::Strokes,
         Some(Drift::default()),
-        host_tests::world::hand::SensorSpec::ADXL335,
+        SensorSpec::ADXL335,
         1,
         0,
         None,
@@ -456,7 +457,7 @@ fn every_family_has_its_name_and_a_trace() {
     let every = families::trace(
         Kind::Strokes,
         Some(Drift::default()),
-        host_tests::world::hand::SensorSpec::ADXL335,
+        SensorSpec::ADXL335,
         1,
         0,
         Some(100),
@@ -497,9 +498,9 @@ fn brisk_strokes_sampled_at_100_hz_stop_on_what_sampling_left() {
     // of the motion's top speed at 100 Hz, 0.006 % at 3 kHz). Each arrives within max(5 %,
     // 3 floors); control: without the allowance its velocity left is not explained, the
     // cursor glides back and they end 7.8, 7.4 and 14.6 mm off (allowed 4.8, 6.3, 13.5).
-    let spec = host_tests::world::hand::SensorSpec {
+    let spec = SensorSpec {
         fs: 100.0,
-        ..host_tests::world::hand::SensorSpec::ADXL335
+        ..SensorSpec::ADXL335
     };
     let base = imu_core::Config {
         drift: Some(Drift::default()),
@@ -552,4 +553,55 @@ fn a_brisk_stroke_after_a_tilt_leaves_no_knock_behind() {
     // with the residual the hand's wherever within its band output, the stroke is never
     // delivered (285.1 mm off).
     assert!(trial_within(Kind::AfterTilt, 22), "after-tilt trial 22");
+}
+
+/// The sd [m] of the Euler double integral over `n` samples of `spec`'s X and Y codes at
+/// rest, flat, against their exact zero, over `runs` rests each.
+fn rest_position_sd(spec: SensorSpec, n: usize, runs: usize, seed: u64) -> f64 {
+    let mut rng = noise::rng(seed);
+    let mut sensor = Sensor::new(spec, &mut rng);
+    let zero = sensor.zero_codes();
+    let lsb = spec.lsb();
+    let mut sum2 = 0.0;
+    for _ in 0..runs {
+        let (mut v, mut s) = ([0.0f64; 2], [0.0f64; 2]);
+        for _ in 0..n {
+            let c = sensor.codes([0.0; 3], [0.0; 3], [0.0; 2], &mut rng);
+            for a in 0..2 {
+                v[a] += (f64::from(c[a]) - zero[a]) * lsb / spec.fs;
+                s[a] += v[a] / spec.fs;
+            }
+        }
+        sum2 += s[0] * s[0] + s[1] * s[1];
+    }
+    (sum2 / (2 * runs) as f64).sqrt()
+}
+
+#[test]
+fn the_floor_at_a_rate_is_what_the_sensor_model_integrates_to() {
+    // The ADXL335 (300 ug/sqrt(Hz) through its 50 Hz pole, 12 bits) at 100 Hz and at 3 kHz,
+    // no bias walk: 1500 rests of T each, X and Y, double-integrated against the exact zero.
+    // 3000 values: the sample variance's relative sd sqrt(2 / 3000) = 2.6 %, the sd's 1.3 %;
+    // the integration's finite-N terms add under 1 % (N = 400 at 100 Hz, alpha N = 314 at
+    // 3 kHz): within 3.09 sd plus 1 %, 5 %. At 100 Hz the continuous floor is 26 % short.
+    for (fs, t) in [(100.0, 4.0), (3000.0, 1.0)] {
+        let spec = SensorSpec {
+            walk_ug: 0.0,
+            fs,
+            ..SensorSpec::ADXL335
+        };
+        let n = (t * fs) as usize;
+        let got = rest_position_sd(spec, n, 1500, 7);
+        let floor = families::floor_m(spec.nd(), t);
+        let ratio = families::floor_ratio(&spec);
+        println!(
+            "fs {fs}: measured {:.4} floors, predicted {ratio:.4}",
+            got / floor
+        );
+        assert!(
+            (got / (ratio * floor) - 1.0).abs() < 0.05,
+            "fs {fs}: {} floors, predicted {ratio}",
+            got / floor
+        );
+    }
 }

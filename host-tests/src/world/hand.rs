@@ -148,6 +148,12 @@ impl Sensor {
         &self.spec
     }
 
+    /// Each axis's zero-g code [LSB, fractional]: flat, with no bias walk, its codes average
+    /// to it (on X and Y; Z adds 1 g) wherever the noise spans a few codes.
+    pub fn zero_codes(&self) -> [f64; 3] {
+        self.zero
+    }
+
     /// The codes for a world-frame acceleration `a` [m/s^2] of the hand (through the pole),
     /// `read` as read at the output (knocks, vibration), at a tilt `tilt` [rad] (about Y,
     /// about X).
