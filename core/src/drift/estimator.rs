@@ -66,6 +66,21 @@
 //! one span in ten (300 windows at a 0.02 % tail each), and the runaway glided on for 6 s
 //! more (a new user's two strokes after a tilt, still moving 10 s after the hand).
 //!
+//! A glide's estimated velocity random-walks (`ND sqrt(t / 2)`, plus the zero's error times
+//! `t`) while the hand holds it steady: after seconds it may be several sd short of the
+//! glide's, and the ramp down, which takes the whole glide, then leaves it pointing back
+//! against the travel, unexplained (a 25.1 mm/s glide of the lab's drags, seed 4, trial
+//! 110: 13 mm/s left of it after 1.7 s, its ticks 0.26 LSB against the travel, 4 sd of their
+//! mean; 12 mm/s backwards after the ramp, 3.4 sd). It glided back until the longest calm.
+//! A hand does not glide back without a lobe of its own after the ramp's, so a motion calm
+//! for the stop's wait (an eighth of the longest stroke) whose velocity points against its
+//! own travel (`V . D < 0`, `D` the sum of its velocities at block ends) ends there as one
+//! that decelerated to rest: its velocity is error, and the bridge below moves it forward
+//! by what a constant zero error gave it (that drag: 6.1 mm off, allowed 14.5, after 24.4;
+//! it still runs back during the wait, 4.3 mm). A hand that reverses into a glide without
+//! stopping is cut at the wait: where the sensor cannot tell them apart, the target's "never
+//! back" decides.
+//!
 //! A stroke ends with a deceleration, but near the noise floor its velocity may be explained
 //! before the deceleration is over; what is left of it would start a motion backwards. So
 //! any stop keeps its velocity for an eighth of the longest stroke (the fade's own quiet
@@ -448,7 +463,15 @@ impl Detector {
             self.enter_still();
             return if held { Action::Discard } else { Action::Stop };
         }
-        if quiet && explained {
+        // Calm for the stop's wait with its velocity against its own travel: the ramp down
+        // took more than the glide's velocity held (see the module docs).
+        let reversed = quiet
+            && self.motion.calm_run >= s.fade_ticks
+            && !forward(
+                [i128::from(velocity[0]), i128::from(velocity[1])],
+                self.motion.travel,
+            );
+        if quiet && (explained || reversed) {
             // A motion that ends younger than its hold was a jolt, not a stroke; one that
             // never stood out of the desk's disturbance was the disturbance; one soon after a
             // tilt that never reversed and outlasted the longest stroke glided on a velocity
@@ -456,7 +479,7 @@ impl Detector {
             // refuted: deliver.
             let glided = self.tilt.unreversed() && self.age() > u64::from(s.land_timeout);
             let held = self.click.hold_left > 0 || self.motion.unproven || glided;
-            let fade = self.motion.calm_run >= s.fade_ticks;
+            let fade = self.motion.calm_run >= s.fade_ticks && !reversed;
             let samples = self.motion.samples;
             let discarded_only = self.motion.unproven;
             let real_end = self.real_end;
