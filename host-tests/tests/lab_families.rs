@@ -11,6 +11,7 @@
 //! full families (200 trials each) are `cargo lab mouse`.
 
 use host_tests::commands::mouse::families::{self, Family, Kind};
+use host_tests::oracle::twin;
 use host_tests::world::hand::{Motion, Scenario, Sensor, SensorSpec};
 use host_tests::world::noise;
 use imu_core::drift::Tuning;
@@ -577,26 +578,25 @@ fn a_brisk_stroke_after_a_tilt_leaves_no_knock_behind() {
     assert!(trial_within(Kind::AfterTilt, 22), "after-tilt trial 22");
 }
 
-/// The sd [m] of the Euler double integral over `n` samples of `spec`'s X and Y codes at
-/// rest, flat, against their exact zero, over `runs` rests each.
+/// The sd [m] of the Euler double integral ([`twin::Integrator`]) over `n` samples of
+/// `spec`'s X and Y codes at rest, flat, against their exact zero, over `runs` rests each.
 fn rest_position_sd(spec: SensorSpec, n: usize, runs: usize, seed: u64) -> f64 {
     let mut rng = noise::rng(seed);
     let mut sensor = Sensor::new(spec, &mut rng);
     let zero = sensor.zero_codes();
-    let lsb = spec.lsb();
     let mut sum2 = 0.0;
     for _ in 0..runs {
-        let (mut v, mut s) = ([0.0f64; 2], [0.0f64; 2]);
+        let mut axes = [twin::Integrator::new(twin::Scheme::Euler); 2];
         for _ in 0..n {
             let c = sensor.codes([0.0; 3], [0.0; 3], [0.0; 2], &mut rng);
-            for a in 0..2 {
-                v[a] += (f64::from(c[a]) - zero[a]) * lsb / spec.fs;
-                s[a] += v[a] / spec.fs;
+            for (a, axis) in axes.iter_mut().enumerate() {
+                axis.step(f64::from(c[a]) - zero[a]);
             }
         }
-        sum2 += s[0] * s[0] + s[1] * s[1];
+        sum2 += axes.iter().map(|axis| axis.s * axis.s).sum::<f64>();
     }
-    (sum2 / (2 * runs) as f64).sqrt()
+    // LSB samples^2 to metres.
+    (sum2 / (2 * runs) as f64).sqrt() * spec.lsb() / (spec.fs * spec.fs)
 }
 
 #[test]
