@@ -25,22 +25,22 @@
 //! left out depends on the residual above `knock_hz`, nearly independent of a block's sum
 //! (its content below it) on noise alone: the sample left is not biased.
 //!
-//! A block's squared offset is learnt as at most [`LEARN_CLIP`] `= 16` times `q` (4 sd of
-//! its sum). On noise it is `q` times a chi-square of one degree of freedom, past 16 in
-//! 6.3e-5 of blocks: the clip lowers the average by 1.2e-4 of `q` (`E min(Z^2, 16) =
-//! 0.99988`), nothing a test sees. What it bounds is a block of a lobe the start tests have
-//! not claimed yet: the noise is learnt from ticks [`super::REPLAY`] old, and a slow stroke's
-//! first lobe reaches them before its second lobe's end finds the stroke (the two-lobe sum,
-//! [`super::rest`]). Each such block raised `q` by its whole squared offset over
-//! [`LEARN_BLOCKS`] (a block 10 LSB a sample off the ADXL335's zero: 43-fold), and the second lobe, standardised
-//! by the inflated sd, fell short: 7 mm over 0.6 s, 0.4 s after the calibration at 740
-//! ug/sqrt(Hz), never moved (the learnt sd rose 7.7 % in one block, 5.7 % clipped). Clipped,
-//! a block raises `q` by at most 15/128 (12 %), and a real rise of the sensor's noise is
-//! still learnt, doubling `q` within 6 blocks (0.5 s of rest at 5 ms ticks). The lab's
-//! families and sweeps (seeds 1-8, against no clip) move with it: 25 gains 8 trials within
-//! and loses 1, 16 gains 22 and loses 2 (both on a 10-bit ADC), 9 gains 66 and loses 12, 5
-//! of them strokes after a tilt (not traced). 4 sd is kept: the clip costs noise nothing
-//! there (at 3 sd 0.5 % of `q`), and no kept row loses.
+//! A block's squared offset is learnt as at most [`LEARN_CLIP`] `= 16` times `q` (4 sd of its
+//! sum). On noise it is `q` times a chi-square of one degree of freedom, past 16 in 6.3e-5 of
+//! blocks: the clip lowers the average by 1.2e-4 of `q` (`E min(Z^2, 16) = 0.99988`), nothing a
+//! test sees. What it bounds is a block of a lobe the start tests have not claimed yet: the
+//! noise is learnt from ticks [`super::REPLAY`] old, and a slow stroke's first lobe reaches
+//! them before its second lobe's end finds the stroke (the two-lobe sum, [`super::rest`]). Each
+//! such block raised `q` by its whole squared offset over [`LEARN_BLOCKS`] (a block 10 LSB a
+//! sample off the ADXL335's zero: 43-fold), and the second lobe, standardised by the inflated
+//! sd, fell short: 7 mm over 0.6 s, 0.4 s after the calibration at 740 ug/sqrt(Hz), never moved
+//! (the learnt sd rose 7.7 % in one block, 5.7 % clipped). Clipped, a block raises `q` by at
+//! most 15/128 (12 %), and a real rise of the sensor's noise is still learnt, doubling `q`
+//! within 6 blocks (0.5 s of rest at 5 ms ticks). The lab's families and sweeps (seeds 1-8,
+//! against no clip) move with it: 25 gains 8 trials within and loses 1, 16 gains 22 and loses 2
+//! (both on a 10-bit ADC), 9 gains 66 and loses 12, 5 of them strokes after a tilt (not
+//! traced). 4 sd is kept: the clip costs noise nothing there (at 3 sd 0.5 % of `q`), and no
+//! kept row loses.
 //!
 //! # The disturbance
 //! What is not the sensor's noise and not a hand: a knock's ring, a machine's vibration,

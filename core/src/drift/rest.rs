@@ -89,17 +89,17 @@
 //! past 5 sd) that is a quarter of the stroke: the lobes' gap, 0.5 s by default.
 //! With the filter's length alone (85 ms) a slow stroke's first lobe was missed, and its
 //! second left the cursor gliding back for tens of seconds (a new user's 15.5 mm stroke
-//! over 1.57 s: 3.2 m). The gap only widens the match; noise reaches 5 sd in the same 0.7 %
-//! of runs, and a false match moves the onset back by that run only. The blocks
-//! since the onset (at most [`super::BLOCKS`] - 1, 1.28 s) are integrated at once, from zero
-//! velocity: a slow stroke found half-way loses nothing of its start. A stroke's lobes come
-//! on both axes at once, and noise may leave one axis's first lobe under `lobe_sd` while the
-//! other's passes it: a start also begins at the first lobe of a slow run going on, on
-//! either axis, that has one and has itself risen past `lobe_sd` (a new user's 14.9 mm
-//! stroke over 1.61 s alarmed on Y's second lobe alone and glided back 209 mm from zero
-//! velocity there; X's second run was going on after a first lobe of 5.2 sd). Noise makes
-//! such a pair, both runs past `lobe_sd` within the gap, in well under 0.7 % squared of
-//! runs, and a false one only replays more blocks of rest. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
+//! over 1.57 s: 3.2 m). The gap only widens the match; noise reaches 5 sd in the same 0.7 % of
+//! runs, and a false match moves the onset back by that run only. The blocks since the onset
+//! (at most [`super::BLOCKS`] - 1, 1.28 s) are integrated at once, from zero velocity: a slow
+//! stroke found half-way loses nothing of its start. A stroke's lobes come on both axes at
+//! once, and noise may leave one axis's first lobe under `lobe_sd` while the other's passes it:
+//! a start also begins at the first lobe of a slow run going on, on either axis, that has one
+//! and has itself risen past `lobe_sd` (a new user's 14.9 mm stroke over 1.61 s alarmed on Y's
+//! second lobe alone and glided back 209 mm from zero velocity there; X's second run was going
+//! on after a first lobe of 5.2 sd). Noise makes such a pair, both runs past `lobe_sd` within
+//! the gap, in well under 0.7 % squared of runs, and a false one only replays more blocks of
+//! rest. A start whose alarm was crossed by one tick alone is a step (a jolt), not a hand's
 //! ramp: its hold runs from now, not from an onset noise may have placed earlier
 //! ([`super::click`]).
 //!
