@@ -56,6 +56,20 @@
 //! past the chi-square whose 2-dof tail is `p / m`, `chi2 + 2 ln m` (16.9): the span as a
 //! whole keeps the one window's error rate. A stroke's deceleration is far past either.
 //!
+//! The calm's bound keeps its error rate over the span, not over a glide of seconds: noise
+//! breaks a long glide's calm now and then, and if its velocity is explained just after, it
+//! stopped as a motion that decelerated to rest (the lab's drags, seed 11, trial 122: a 12.9
+//! mm/s glide's calm broken by a window at 19.2 against 16.9, its velocity explained 32
+//! ticks later at 9.2 mm/s, 3.4 sd; its ramp down 1.7 s later started from zero velocity
+//! and ran the cursor back 9.2 mm). The velocity itself tells them apart: a hand that
+//! decelerated to rest left it near zero, a glide near the velocity it held. So a stop calm
+//! for the wait at the longest calm's bound (below) whose velocity is nearer the motion's
+//! mean (its velocities at block ends averaged) than zero, the mean out of its own
+//! uncertainty, is a glide that faded too: `2 V . M > M . M` is the likelihood ratio's side
+//! for the two, equally uncertain. A jolt (a knock's few ticks) has a mean but no calm; a
+//! motion within the noise has no mean out of its uncertainty (a slow stroke after a tilt:
+//! taken for a glide, seed 11's after-tilt 172 ends 35.5 mm off, allowed 18.4).
+//!
 //! A glide's velocity may stand out of its uncertainty for tens of seconds, so a motion that
 //! starts from a wrong velocity (a stroke found in its second lobe, a ramp down taken for a
 //! ramp up) would glide that long. No hand glides longer than `glide_max_s`, and its ramps'
@@ -154,6 +168,8 @@ pub struct Motion {
     /// The horizontal velocities (`W`) summed at each block's end since the onset, of the
     /// motion this one resumes too: the direction of its travel, for the bridge.
     travel: [i64; 2],
+    /// The block ends `travel` summed.
+    blocks: u32,
     /// The bridge's corrections made so far to this motion (at the stops of the motions it
     /// resumes) [`Z = 4 S` units].
     corrected: [i128; 2],
@@ -188,6 +204,7 @@ impl Motion {
         self.unproven = false;
         if !resumes {
             self.travel = [0; 2];
+            self.blocks = 0;
             self.corrected = [0; 2];
             self.alias = [0; 2];
         }
@@ -215,12 +232,18 @@ impl Motion {
 
     /// A block ended with the velocities `w` (`W`): its share of the travel.
     fn travelled(&mut self, w: [i64; 2], alias_q32: u64) {
+        self.blocks = self.blocks.saturating_add(1);
         for ((t, m), w) in self.travel.iter_mut().zip(&mut self.alias).zip(w) {
             *t = t.saturating_add(w);
             // |W| / 2 < 2^63, times a Q32 below 2^32: below 2^127.
             let alias = (u128::from(w.unsigned_abs() / 2) * u128::from(alias_q32)) >> 32;
             *m = (*m).max(alias as u64);
         }
+    }
+
+    /// Its mean velocity at block ends (`W`), if a block has ended in it.
+    fn mean(&self) -> Option<[i64; 2]> {
+        (self.blocks > 0).then(|| self.travel.map(|t| t / i64::from(self.blocks)))
     }
 
     /// One more sample integrated.
@@ -251,6 +274,19 @@ pub(crate) fn forward(c: [i128; 2], d: [i64; 2]) -> bool {
     let shift = (128 - m.leading_zeros()).saturating_sub(62);
     let dot: i128 = (0..2).map(|a| (c[a] >> shift) * i128::from(d[a])).sum();
     dot >= 0
+}
+
+/// Whether the velocity `w` is nearer `m` than zero (both `W`, per horizontal axis):
+/// `|w - m| < |w|`, that is `2 w . m > m . m`. The likelihood ratio's side for a velocity
+/// held at `m` against one brought to zero, the two equally uncertain.
+pub(crate) fn nearer_than_zero(w: [i64; 2], m: [i64; 2]) -> bool {
+    // |w|, |m| < 2^63: each product below 2^126, their sums saturate.
+    let dot = |x: [i64; 2]| -> i128 {
+        (0..2)
+            .map(|a| i128::from(x[a]) * i128::from(m[a]))
+            .fold(0, i128::saturating_add)
+    };
+    dot(w).saturating_mul(2) > dot(m)
 }
 
 /// Whether two offsets `d` (Q16 sums) with variances `var` (squared units) and allowances
@@ -331,6 +367,21 @@ impl Detector {
             [0, 1].map(|a| self.noise[a].var(n, nb)),
             [0, 1].map(|a| allow[a].saturating_add(self.motion.alias[a])),
         )
+    }
+
+    /// Whether the velocities `W` left at a stop are nearer the motion's mean velocity than
+    /// zero, the mean itself out of its uncertainty: the velocity held (a glide), no
+    /// deceleration brought it down (see the module docs).
+    fn glided(&self, s: &DriftSettings, w: [i64; 3]) -> bool {
+        self.motion.mean().is_some_and(|m| {
+            nearer_than_zero([w[0], w[1]], m)
+                && !self.velocity_explained(
+                    s,
+                    [m[0], m[1], 0],
+                    self.motion.samples,
+                    self.bias_samples,
+                )
+        })
     }
 
     /// Whether the velocities `W = 2 V` of a lone lobe's mate are what the lone lobe can have
@@ -479,7 +530,9 @@ impl Detector {
             // refuted: deliver.
             let glided = self.tilt.unreversed() && self.age() > u64::from(s.land_timeout);
             let held = self.click.hold_left > 0 || self.motion.unproven || glided;
-            let fade = self.motion.calm_run >= s.fade_ticks && !reversed;
+            let fade = !reversed
+                && (self.motion.calm_run >= s.fade_ticks
+                    || self.motion.long_calm >= s.fade_ticks && self.glided(s, velocity));
             let samples = self.motion.samples;
             let discarded_only = self.motion.unproven;
             let real_end = self.real_end;
@@ -583,6 +636,44 @@ mod tests {
         m.begin(100, false);
         m.travelled([-50, 0], 0);
         assert_eq!(m.bridge([2, 0]), [-200, 0]);
+    }
+
+    #[test]
+    fn a_velocity_is_nearer_its_mean_than_zero_past_the_midpoint() {
+        // Along the mean: past half of it, nearer the mean.
+        assert!(nearer_than_zero([60, 0], [100, 0]));
+        assert!(!nearer_than_zero([40, 0], [100, 0]));
+        // At the midpoint exactly: not nearer (equally near).
+        assert!(!nearer_than_zero([50, 0], [100, 0]));
+        assert!(nearer_than_zero([51, 0], [100, 0]));
+        // Both axes count: (30, 40) against (50, 50): 2 x 3500 > 5000.
+        assert!(nearer_than_zero([30, 40], [50, 50]));
+        // Across or against the mean: never; no mean: never.
+        assert!(!nearer_than_zero([0, 100], [100, 0]));
+        assert!(!nearer_than_zero([-100, 0], [100, 0]));
+        assert!(!nearer_than_zero([100, 0], [0, 0]));
+        // At the extremes the products saturate without changing the side.
+        assert!(nearer_than_zero([i64::MAX, i64::MAX], [i64::MAX, i64::MAX]));
+        assert!(!nearer_than_zero(
+            [i64::MIN, i64::MIN],
+            [i64::MAX, i64::MAX]
+        ));
+    }
+
+    #[test]
+    fn a_motions_mean_is_its_travel_over_its_block_ends() {
+        let mut m = Motion::default();
+        m.begin(100, false);
+        assert_eq!(m.mean(), None);
+        m.travelled([90, -30], 0);
+        m.travelled([30, -10], 0);
+        assert_eq!(m.mean(), Some([60, -20]));
+        // A resumed motion keeps its travel and its count; a fresh one starts from none.
+        m.begin(200, true);
+        m.travelled([0, 0], 0);
+        assert_eq!(m.mean(), Some([40, -13]));
+        m.begin(100, false);
+        assert_eq!(m.mean(), None);
     }
 
     #[test]
