@@ -677,6 +677,20 @@ mod tests {
     }
 
     #[test]
+    fn what_sampling_leaves_is_the_largest_speed_at_a_block_end_times_alias() {
+        // alias 1/4 (Q32): |W| / 2 x 1/4 per axis, the largest block end kept.
+        let mut m = Motion::default();
+        m.begin(100, false);
+        m.travelled([1000, -4000], 1 << 30);
+        assert_eq!(m.alias, [125, 500]);
+        m.travelled([-3000, 400], 1 << 30);
+        assert_eq!(m.alias, [375, 500]);
+        // A fresh motion starts from none.
+        m.begin(100, false);
+        assert_eq!(m.alias, [0, 0]);
+    }
+
+    #[test]
     fn the_quotient_is_exact_in_either_width() {
         assert_eq!(quotient(1000, 7), 142);
         let big = (1u128 << 100) + 12_345;
