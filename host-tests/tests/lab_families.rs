@@ -283,6 +283,27 @@ fn a_glide_whose_calm_noise_broke_fades_when_its_velocity_held_near_its_mean() {
     }
 }
 
+#[test]
+fn a_tilts_shadow_whose_velocity_never_stood_out_delivers_nothing() {
+    // Seed 6's pad tilt 121 (1.5 degrees over 0.68 s) and seed 13's 17: confirmed 0.6 s
+    // after the pad rested, each from a steady level with a noise sub-window after it, so
+    // the rest went on as a shadow; noise took one of its sub-windows against the tilt at
+    // 3 sd, and at its end the shadow was adopted and its integrated noise delivered (a
+    // few counts, 0.62 and 0.65 s after the pad rested, 0.13 and 0.41 mm). A shadow whose
+    // velocity never stood out of its uncertainty carried no hand's motion: its zeros are
+    // taken and nothing is delivered. Control: without the rule, those late moves.
+    for (k, seed) in [(121, 6), (17, 13)] {
+        for r in trial_on(Kind::PadTilts, k, seed) {
+            assert!(
+                r.second <= 0.5 && r.third == 0.0,
+                "pad tilt {k}, seed {seed}: last move {:.3} s after the pad's rest, {:.2} mm later",
+                r.second,
+                r.third * 1e3
+            );
+        }
+    }
+}
+
 /// Whether trial `k` of `kind` (seed 1, the board's sensor) is within its target.
 fn trial_within(kind: Kind, k: usize) -> bool {
     trial_of(kind, k).iter().all(|r| r.error_m <= r.allowed_m)
