@@ -262,6 +262,20 @@ fn a_missing_file_is_named_on_stderr_with_status_1() {
 }
 
 #[test]
+fn the_families_table_says_what_a_reported_row_is() {
+    // A new user read "rep." beside a row at 59.5 % as a pass (its JSON says `"pass":
+    // true`): the table now says what it means.
+    let out = output(&["mouse", "--families", "--quick"]);
+    assert!(out.status.success());
+    let table = text(&out.stdout);
+    assert!(table.lines().any(|l| l.contains(" rep. ")), "{table}");
+    assert!(
+        table.contains("rep.: reported beside the targets, not one of them"),
+        "{table}"
+    );
+}
+
+#[test]
 fn json_output_is_json_alone() {
     let file = rest_recording("json");
     for args in [

@@ -1136,6 +1136,11 @@ pub fn table(fams: &[Family]) -> String {
             extra
         );
     }
+    if fams.iter().any(|f| f.asks == REPORTED) {
+        out += "ok: yes or NO against the family's target (T, the issue's number); rep.: reported \
+                beside the targets, not one of them (10-bit ADCs, a 25 Hz pole), whatever it \
+                measured (`pass` true in --json, `asks` \"reported\")\n";
+    }
     out
 }
 
