@@ -372,7 +372,7 @@ impl Detector {
     /// Whether the velocities `W` left at a stop are nearer the motion's mean velocity than
     /// zero, the mean itself out of its uncertainty: the velocity held (a glide), no
     /// deceleration brought it down (see the module docs).
-    fn glided(&self, s: &DriftSettings, w: [i64; 3]) -> bool {
+    fn held_near_mean(&self, s: &DriftSettings, w: [i64; 3]) -> bool {
         self.motion.mean().is_some_and(|m| {
             nearer_than_zero([w[0], w[1]], m)
                 && !self.velocity_explained(
@@ -532,7 +532,7 @@ impl Detector {
             let held = self.click.hold_left > 0 || self.motion.unproven || glided;
             let fade = !reversed
                 && (self.motion.calm_run >= s.fade_ticks
-                    || self.motion.long_calm >= s.fade_ticks && self.glided(s, velocity));
+                    || self.motion.long_calm >= s.fade_ticks && self.held_near_mean(s, velocity));
             let samples = self.motion.samples;
             let discarded_only = self.motion.unproven;
             let real_end = self.real_end;
