@@ -227,6 +227,18 @@ fn trial_on(kind: Kind, k: usize, seed: u64) -> Vec<families::Trial> {
     families::trial(kind, &dev, k, seed, avg)
 }
 
+/// Asserts that trial `k` of `kind` on `seed` ends within its target.
+fn assert_within_on(kind: Kind, k: usize, seed: u64) {
+    for r in trial_on(kind, k, seed) {
+        assert!(
+            r.error_m <= r.allowed_m,
+            "{kind:?} {k}, seed {seed}: {:.2} mm off, allowed {:.2}",
+            r.error_m * 1e3,
+            r.allowed_m * 1e3
+        );
+    }
+}
+
 #[test]
 fn a_drag_whose_glide_drifted_settles_after_its_ramp_down_instead_of_running_back() {
     // Seed 4's drag 110: a glide of 25.1 mm/s whose estimated velocity drifted down to 13
@@ -238,14 +250,7 @@ fn a_drag_whose_glide_drifted_settles_after_its_ramp_down_instead_of_running_bac
     // error gave it. Each ends within its target; control: without the rule, 24.4 and 45.6
     // mm off (allowed 14.5 and 31.1), running back.
     for (k, seed) in [(110, 4), (141, 13)] {
-        for r in trial_on(Kind::Drags, k, seed) {
-            assert!(
-                r.error_m <= r.allowed_m,
-                "drag {k}, seed {seed}: {:.1} mm off, allowed {:.1}",
-                r.error_m * 1e3,
-                r.allowed_m * 1e3
-            );
-        }
+        assert_within_on(Kind::Drags, k, seed);
     }
 }
 
@@ -272,14 +277,7 @@ fn a_glide_whose_calm_noise_broke_fades_when_its_velocity_held_near_its_mean() {
     // And a slow stroke soon after a tilt whose mean is within its uncertainty (seed 11's
     // after-tilt 172, 19.8 mm over 1.6 s): taken for a glide, 35.5 mm off, allowed 18.4.
     for (kind, k, seed) in [(Kind::KnockyStrokes, 90, 13), (Kind::AfterTilt, 172, 11)] {
-        for r in trial_on(kind, k, seed) {
-            assert!(
-                r.error_m <= r.allowed_m,
-                "{kind:?} {k}, seed {seed}: {:.2} mm off, allowed {:.2}",
-                r.error_m * 1e3,
-                r.allowed_m * 1e3
-            );
-        }
+        assert_within_on(kind, k, seed);
     }
 }
 
