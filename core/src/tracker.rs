@@ -475,13 +475,15 @@ impl Tracker {
 
     /// Drains the motion since the last call as whole mouse counts `[x, y, z]`, remainders
     /// carried. Zeros while calibrating, and while drift control holds a new motion back
-    /// (younger than its hold, or held by the tilt tests; the counts follow once it is
-    /// released). `x` and `y` are the sensor's axes (positive `y` away from the user);
+    /// (younger than its hold, or held by the tilt tests) or pauses a calm one whose velocity
+    /// points back against its travel ([`Detector::pauses`]); the counts follow once it is
+    /// released, or with the stop's correction. `x` and `y` are the sensor's axes (positive `y` away from the user);
     /// [`crate::profile::AxisMap::screen`] and [`crate::hid::screen_motion`] turn them into
     /// screen motion. `z` is the vertical axis's travel, not a mouse axis: a pointer drops it,
     /// as the firmware does.
     pub fn take_counts(&mut self) -> [i32; AXES] {
-        if self.detector().is_some_and(Detector::holds) {
+        let w = self.axes.each_ref().map(|a| a.integrator().velocity());
+        if self.detector().is_some_and(|d| d.pauses(w)) {
             return [0; AXES];
         }
         let settings = &self.settings;

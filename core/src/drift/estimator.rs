@@ -90,10 +90,15 @@
 //! for the stop's wait (an eighth of the longest stroke) whose velocity points against its
 //! own travel (`V . D < 0`, `D` the sum of its velocities at block ends) ends there as one
 //! that decelerated to rest: its velocity is error, and the bridge below moves it forward
-//! by what a constant zero error gave it (that drag: 6.1 mm off, allowed 14.5, after 24.4;
-//! it still runs back during the wait, 4.3 mm). A hand that reverses into a glide without
-//! stopping is cut at the wait: where the sensor cannot tell them apart, the target's "never
-//! back" decides.
+//! by what a constant zero error gave it (that drag: 6.1 mm off, allowed 14.5, after 24.4).
+//! That bridge never moves the cursor back, so what such a motion runs back during the wait
+//! is taken back at its end if the wait completes: nothing is delivered while a motion calm
+//! at the last tick has its velocity against its travel ([`super::Detector::pauses`]), and
+//! what it integrated meanwhile follows if the wait ends otherwise (the acceleration
+//! returns: a hand's lobe, delivered late by at most the wait). That drag ran back 4.3 mm
+//! during the wait, and 0.8 mm now (during its ramp down, which is not calm). A hand that
+//! reverses into a glide without stopping is cut at the wait: where the sensor cannot tell
+//! them apart, the target's "never back" decides.
 //!
 //! A stroke ends with a deceleration, but near the noise floor its velocity may be explained
 //! before the deceleration is over; what is left of it would start a motion backwards. So
@@ -276,6 +281,12 @@ pub(crate) fn forward(c: [i128; 2], d: [i64; 2]) -> bool {
     dot >= 0
 }
 
+/// Whether the velocity `w` points back against the travel `d` (`w . d < 0`, exactly: each
+/// product of two `i64` is below 2^126, their sum below 2^127).
+pub(crate) fn points_back(w: [i64; 2], d: [i64; 2]) -> bool {
+    i128::from(w[0]) * i128::from(d[0]) + i128::from(w[1]) * i128::from(d[1]) < 0
+}
+
 /// Whether the velocity `w` is nearer `m` than zero (both `W`, per horizontal axis):
 /// `|w - m| < |w|`, that is `2 w . m > m . m`. The likelihood ratio's side for a velocity
 /// held at `m` against one brought to zero, the two equally uncertain.
@@ -448,6 +459,12 @@ impl Detector {
         dot < 0
     }
 
+    /// Whether a motion calm at the fade's bound at the last tick has the horizontal velocity
+    /// `w` (`W`) against its travel: in the reversed stop's wait (see the module docs).
+    pub(crate) fn backing(&self, w: [i64; 2]) -> bool {
+        self.motion.calm_run > 0 && points_back(w, self.motion.travel)
+    }
+
     /// Decisions while moving at a tick's end: the stop, a tilt's shadow, then the tilt
     /// tests.
     pub(crate) fn moving_tick(
@@ -518,10 +535,7 @@ impl Detector {
         // took more than the glide's velocity held (see the module docs).
         let reversed = quiet
             && self.motion.calm_run >= s.fade_ticks
-            && !forward(
-                [i128::from(velocity[0]), i128::from(velocity[1])],
-                self.motion.travel,
-            );
+            && self.backing([velocity[0], velocity[1]]);
         if quiet && (explained || reversed) {
             // A motion that ends younger than its hold was a jolt, not a stroke; one that
             // never stood out of the desk's disturbance was the disturbance; one soon after a
@@ -636,6 +650,18 @@ mod tests {
         m.begin(100, false);
         m.travelled([-50, 0], 0);
         assert_eq!(m.bridge([2, 0]), [-200, 0]);
+    }
+
+    #[test]
+    fn a_velocity_points_back_only_against_its_travel() {
+        assert!(points_back([-3, 1], [5, 2]));
+        assert!(!points_back([3, -1], [5, 2]));
+        // Across the travel (a zero dot) or with no travel yet: not back.
+        assert!(!points_back([-2, 5], [5, 2]));
+        assert!(!points_back([-100, -100], [0, 0]));
+        // Exact at the extremes: the two products nearly cancel, one count decides.
+        assert!(points_back([i64::MIN, i64::MAX], [i64::MAX, i64::MAX]));
+        assert!(!points_back([i64::MIN + 1, i64::MAX], [i64::MAX, i64::MAX]));
     }
 
     #[test]
