@@ -539,6 +539,26 @@ impl Disturbance {
         Self { amp_q16, ..*self }
     }
 
+    /// The amplitude a new disturbance may already have [Q16 LSB per tick sum]: until the
+    /// desk has been disturbed for the long average's whole span (`2^k` ticks, the last 64
+    /// at most), the long average has not caught up with it and the measured amplitude is
+    /// only a lower bound (a machine starting up), so this is the short average's upper
+    /// bound, `sqrt(2 (P_short (1 + m) - E)) / (L1 L2)` (see the module docs); after that,
+    /// the measured amplitude.
+    pub(crate) fn new_amplitude(&self, s: &DriftSettings) -> u64 {
+        let span = 1u32.checked_shl(s.dist_shift).unwrap_or(64).min(64);
+        let mask = u64::MAX >> (64 - span);
+        if self.shaken & mask == mask {
+            return self.amp_q16;
+        }
+        let m = u128::from(s.dist_margin_short_q8 - 256);
+        // Exact and below 2^104, as in `update`.
+        let upper =
+            ((u128::from(self.power[2]) * (256 + m)) << 24).saturating_sub(self.expect_q32[0]);
+        let l = u64::from(s.band[0] * s.band[1]);
+        (crate::math::isqrt_u128(2 * upper) as u64 / l).max(self.amp_q16)
+    }
+
     /// This disturbance's gains.
     pub(crate) fn gains<'a>(&self, s: &'a DriftSettings) -> &'a Gains {
         &s.gains[usize::from(self.bin)]

@@ -576,13 +576,20 @@ impl Detector {
     ) -> bool {
         let n = u64::from(s.block) * u64::from(s.tick);
         let mut v = from.map_or([0; 2], |w| [w[0] / 2, w[1] / 2]);
+        let allow = self.new_velocity_allowance(s);
         for k in (1..=blocks).rev() {
             for (a, v) in v.iter_mut().enumerate() {
                 let sum = self.stream.blocks_sum(a, k as u32, k as u32 + 1);
                 *v = v.saturating_add(super::ticks::offset_q16(sum, n, bias[a]));
             }
             let m = (blocks - k + 1) * n;
-            if !self.velocity_explained(s, [2 * v[0], 2 * v[1], 0], m, self.bias_samples) {
+            if !self.velocity_explained_with(
+                s,
+                [2 * v[0], 2 * v[1], 0],
+                m,
+                self.bias_samples,
+                allow,
+            ) {
                 return true;
             }
         }
