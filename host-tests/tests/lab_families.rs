@@ -318,7 +318,7 @@ fn a_machine_just_started_proves_a_replay_only_past_the_largest_amplitude_it_may
     // an allowance (one by its replay, one a tick after it began) and delivered 7 counts
     // (0.22 mm). Until the desk has been disturbed for the long average's span, a motion
     // that starts on it is proven by its replay only against the largest amplitude the
-    // short average allows. Control: against the measured amplitude, 4 counts (0.13 mm);
+    // short average allows. Control: against the measured amplitude, 5 counts (0.13 mm);
     // against that bound however long the desk has shaken, a stroke found whole after it
     // ended on a shaking desk is taken for the shaking (`core/tests/drift.rs`).
     for r in trial_on(Kind::VibrationRest, 13, 17) {
