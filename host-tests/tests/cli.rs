@@ -293,6 +293,32 @@ fn json_output_is_json_alone() {
 }
 
 #[test]
+fn replay_json_says_which_settings_it_ran() {
+    // A new user's recording without a profile ran the board's defaults (800 counts/inch,
+    // 0.33 V/g), and the JSON did not say so: only the table's `settings:` line did.
+    let file = rest_recording("settings");
+    let out = output(&[
+        "replay",
+        file.to_str().expect("utf-8 path"),
+        "--json",
+        "--adc-bits",
+        "14",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let s = &v["settings"];
+    assert_eq!(s["from"], "the defaults (the file has no profile)", "{s}");
+    assert_eq!(s["changed_by"], serde_json::json!(["--adc-bits"]), "{s}");
+    assert_eq!(s["counts_per_inch"], 800, "{s}");
+    assert_eq!(s["adc_bits"], 14, "{s}");
+    assert_eq!(s["drift_control"], true, "{s}");
+    assert!(s["m_s2_per_lsb"].as_f64().is_some_and(|m| m > 0.0), "{s}");
+    // The track's own fields stay where they were.
+    assert!(v["counts"].is_array() && v["fs"] == 3000.0, "{v}");
+    std::fs::remove_file(file).ok();
+}
+
+#[test]
 fn device_arguments_are_refused_before_any_device_is_asked() {
     // Nothing listens on port 9: a command that tried to connect would fail with status 1.
     let dir = std::env::temp_dir();

@@ -88,16 +88,26 @@ pub fn run(a: &Args) -> Outcome {
     let (path, acc) = track::charts(&t, &accel, &name);
     let path = super::write_out(&a.out, "path.svg", &path.to_svg())?;
     let acc = super::write_out(&a.out, "acceleration.svg", &acc.to_svg())?;
+    let overridden: Vec<&str> = [
+        a.m_s2_per_lsb.map(|_| "--m-s2-per-lsb"),
+        a.adc_bits.map(|_| "--adc-bits"),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     let report = if a.json {
-        super::json(&t)?
+        super::json(&Replayed {
+            settings: Used {
+                from,
+                changed_by: overridden,
+                counts_per_inch: p.config.counts_per_inch,
+                m_s2_per_lsb: p.config.m_s2_per_lsb,
+                adc_bits: p.config.adc_bits,
+                drift_control: p.config.drift.is_some(),
+            },
+            track: &t,
+        })?
     } else {
-        let overridden: Vec<&str> = [
-            a.m_s2_per_lsb.map(|_| "--m-s2-per-lsb"),
-            a.adc_bits.map(|_| "--adc-bits"),
-        ]
-        .into_iter()
-        .flatten()
-        .collect();
         let with = if overridden.is_empty() {
             String::new()
         } else {
@@ -119,6 +129,32 @@ pub fn run(a: &Args) -> Outcome {
         ) + &format!("plots: {} and {}", path.display(), acc.display())
     };
     super::tracked(&t, report)
+}
+
+/// `replay --json`: the settings the recording ran with, then what the device did (its
+/// counts right and down: `y` positive down, as the HID report's).
+#[derive(serde::Serialize)]
+struct Replayed<'a> {
+    settings: Used<'a>,
+    #[serde(flatten)]
+    track: &'a track::Track,
+}
+
+/// The settings a replay ran with (the table's `settings:` line).
+#[derive(serde::Serialize)]
+struct Used<'a> {
+    /// Where they came from: the recording's profile or the defaults.
+    from: &'a str,
+    /// The flags that changed them.
+    changed_by: Vec<&'a str>,
+    /// The cursor's resolution [counts per inch].
+    counts_per_inch: u32,
+    /// Acceleration per ADC code [m/s^2].
+    m_s2_per_lsb: f64,
+    /// The ADC's resolution [bits].
+    adc_bits: u8,
+    /// Whether drift control ran (`false`: the paper's plain integration).
+    drift_control: bool,
 }
 
 /// A refusal of the replayed profile, naming the flag the user gave (a resolution that
