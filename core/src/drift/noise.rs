@@ -896,6 +896,49 @@ mod tests {
     }
 
     #[test]
+    fn a_new_disturbance_is_bounded_by_its_short_averages_upper_bound() {
+        let s = settings();
+        let d = Disturbance {
+            amp_q16: 3 << 16,
+            ..Disturbance::new(&s, &cal(1.1, 2048.3))
+        };
+        // The short average at 40 times its noise-only expectation.
+        let p2 = ((d.expect_q32[0] >> 32) as u64) * 40;
+        let d = Disturbance {
+            power: [d.power[0], d.power[1], p2],
+            ..d
+        };
+        // sqrt(2 (P_short (1 + m) - E)) / (L1 L2) in floating point.
+        let m = (s.dist_margin_short_q8 - 256) as f64 / 256.0;
+        let excess = p2 as f64 * (1.0 + m) * 2f64.powi(32) - d.expect_q32[0] as f64;
+        let l = f64::from(s.band[0] * s.band[1]);
+        let want = (2.0 * excess).sqrt() / l;
+        let span = 1u32 << s.dist_shift;
+        assert!(span < 64, "span {span}");
+        let full = u64::MAX >> (64 - span);
+        // Disturbed for the whole span (and before): the measured amplitude.
+        for shaken in [full, u64::MAX, full | 1 << span] {
+            assert_eq!(Disturbance { shaken, ..d }.new_amplitude(&s), 3 << 16);
+        }
+        // Not yet, at the span's oldest tick or its newest: the upper bound.
+        for shaken in [full >> 1, full - 1, full & !(1 << (span - 1)) | 1 << span] {
+            let got = Disturbance { shaken, ..d }.new_amplitude(&s) as f64;
+            assert!(
+                (got - want).abs() <= 1.0,
+                "{shaken:#x}: {got} against {want}"
+            );
+            assert!(got > f64::from(3 << 16));
+        }
+        // A measured amplitude above the bound stands.
+        let big = Disturbance {
+            amp_q16: want as u64 * 2,
+            shaken: 0,
+            ..d
+        };
+        assert_eq!(big.new_amplitude(&s), want as u64 * 2);
+    }
+
+    #[test]
     fn only_the_axes_that_feed_the_start_tests_carry_the_quantizers_bound() {
         let s = settings();
         let c = cal(0.406, 2048.0);
