@@ -482,8 +482,8 @@ impl Tracker {
     /// screen motion. `z` is the vertical axis's travel, not a mouse axis: a pointer drops it,
     /// as the firmware does.
     pub fn take_counts(&mut self) -> [i32; AXES] {
-        let w = self.axes.each_ref().map(|a| a.integrator().velocity());
-        if self.detector().is_some_and(|d| d.pauses(w)) {
+        let velocity = || self.axes.each_ref().map(|a| a.integrator().velocity());
+        if self.detector().is_some_and(|d| d.pauses(velocity)) {
             return [0; AXES];
         }
         let settings = &self.settings;

@@ -991,13 +991,17 @@ impl Detector {
             && (self.click.hold_left > 0 || self.tilt.held() || self.motion.unproven)
     }
 
-    /// Whether delivery pauses with the axes' velocities `w` (`W`, Q16 counts times samples):
-    /// a motion [held](Self::holds), or one in the reversed stop's wait (calm at the last
-    /// tick, its velocity against its travel): that stop's bridge never moves the cursor
-    /// back, so what the motion runs back meanwhile is delivered only if the wait ends
-    /// otherwise ([`estimator`]).
-    pub fn pauses(&self, w: [i64; 3]) -> bool {
-        self.holds() || matches!(self.state, State::Moving) && self.backing([w[0], w[1]])
+    /// Whether delivery pauses: a motion [held](Self::holds), or one in the reversed stop's
+    /// wait (calm at the last tick, its velocity against its travel): that stop's bridge
+    /// never moves the cursor back, so what the motion runs back meanwhile is delivered only
+    /// if the wait ends otherwise ([`estimator`]). `velocity`, the axes' velocities (`W`, Q16
+    /// counts times samples), is asked for only for a motion not held.
+    pub fn pauses(&self, velocity: impl FnOnce() -> [i64; 3]) -> bool {
+        self.holds()
+            || matches!(self.state, State::Moving) && {
+                let w = velocity();
+                self.backing([w[0], w[1]])
+            }
     }
 
     /// The sample stream was interrupted (a sampling restart): whatever was moving is over,
