@@ -552,11 +552,21 @@ impl Disturbance {
             return self.amp_q16;
         }
         let m = u128::from(s.dist_margin_short_q8 - 256);
-        // Exact and below 2^104, as in `update`.
-        let upper =
-            ((u128::from(self.power[2]) * (256 + m)) << 24).saturating_sub(self.expect_q32[0]);
-        let l = u64::from(s.band[0] * s.band[1]);
-        (crate::math::isqrt_u128(2 * upper) as u64 / l).max(self.amp_q16)
+        let upper = self.short_q32(256 + m).saturating_sub(self.expect_q32[0]);
+        Self::amplitude_q16(s, upper).max(self.amp_q16)
+    }
+
+    /// The short average times `c_q8` (Q8) [Q32]: `(P 2^32 c) >> 8` as `P c 2^24`, exact,
+    /// and below 2^104 (`P < 2^64`, `c < 2^16`).
+    fn short_q32(&self, c_q8: u128) -> u128 {
+        (u128::from(self.power[2]) * c_q8) << 24
+    }
+
+    /// The amplitude of a sinusoid whose excess power is `excess` (Q32, below 2^104 as the
+    /// short average's bound is): `sqrt(2 excess) / (L1 L2)` [Q16 LSB per tick sum]. The
+    /// root of `2 excess < 2^105` is below 2^64: a 64-bit division.
+    fn amplitude_q16(s: &DriftSettings, excess: u128) -> u64 {
+        crate::math::isqrt_u128(2 * excess) as u64 / u64::from(s.band[0] * s.band[1])
     }
 
     /// This disturbance's gains.
@@ -612,12 +622,10 @@ impl Disturbance {
         }
         let p = self.power.map(|p| u128::from(p) << 32);
         let e0 = self.expect_q32[0];
-        // The short average's bounds on the excess: P_short (1 -+ m) - E, m = margin - 1;
-        // `(P 2^32 c) >> 8` as `P c 2^24`, exact, and below 2^104 (P < 2^64, c < 2^16).
+        // The short average's bounds on the excess: P_short (1 -+ m) - E, m = margin - 1.
         let m = u128::from(s.dist_margin_short_q8 - 256);
-        let short = |c: u128| (u128::from(self.power[2]) * c) << 24;
-        let upper = short(256 + m).saturating_sub(e0);
-        let lower = short(256u128.saturating_sub(m)).saturating_sub(e0);
+        let upper = self.short_q32(256 + m).saturating_sub(e0);
+        let lower = self.short_q32(256u128.saturating_sub(m)).saturating_sub(e0);
         let long = if p[0] > self.margin_q32[0] {
             p[0] - e0
         } else {
@@ -629,10 +637,7 @@ impl Disturbance {
             self.bin = 0;
             return;
         }
-        // sqrt(2 (P - E) 2^32) / (L1 L2): Q16 LSB per tick sum.
-        // A 128-bit number's root is below 2^64 (and 2 excess < 2^97): a 64-bit division.
-        let root = crate::math::isqrt_u128(2 * excess) as u64;
-        self.amp_q16 = (root / l).max(burst_q16);
+        self.amp_q16 = Self::amplitude_q16(s, excess).max(burst_q16);
         // The frequency: the difference's excess (discounted by its margin) over the
         // residual's, against each bin's edge.
         // `floor(num / den) >= edge` as `num >= edge den`: no 128-bit division per tick.
