@@ -321,13 +321,7 @@ fn a_machine_just_started_proves_a_replay_only_past_the_largest_amplitude_it_may
     // short average allows. Control: against the measured amplitude, 5 counts (0.13 mm);
     // against that bound however long the desk has shaken, a stroke found whole after it
     // ended on a shaking desk is taken for the shaking (`core/tests/drift.rs`).
-    for r in trial_on(Kind::VibrationRest, 13, 17) {
-        assert!(
-            r.error_m <= r.allowed_m,
-            "{:.3} mm moved at rest",
-            r.error_m * 1e3
-        );
-    }
+    assert_within_on(Kind::VibrationRest, 13, 17);
 }
 
 #[test]
