@@ -37,7 +37,13 @@
 //! the desk, so a landing must follow a fall: the vertical velocity, integrated from the lift
 //! window's start, turning against the rise by `K_LIFT` of its sd `sqrt(q n (1 + n / N_b))`
 //! (a fall is the rise's mirror image: as fast, as visible), or, for a set-down too gentle to
-//! be seen, the longest stroke's time since the lift. Then, once the last eighth of the
+//! be seen, the longest stroke's time since the lift. A lift seen going down is its own
+//! fall: a device goes down only from above the desk, after a rise too slow for the test
+//! (5 mm over 1.2 s) or a landing taken in the air (a rotation in the hand takes `g (1 -
+//! cos theta)` off Z, which the velocity test reads as a fall, and the device held still
+//! there rests at a level gravity gives); waiting for the device to rise and fall again, it
+//! stayed lifted for the longest stroke's time after the set-down, and a stroke 0.5 s after
+//! it was lost. Then, once the last eighth of the
 //! longest stroke (0.25 s, in
 //! blocks, [`super::tilt`]) is steady on every axis (its thirds agree within `K_TILT`
 //! sd plus what the disturbance measured now can put into their means, below), the device rests: the zeros become that window's
@@ -237,7 +243,8 @@ impl Detector {
         let up = self.vertical_past_bound(s, &l, bias);
         if up {
             self.lift.rise = self.lift.sign;
-            self.lift.fell = false;
+            // Going down, the device was above the desk: this is its fall (module docs).
+            self.lift.fell = self.lift.sign < 0;
             let n = u64::from(l.window) * u64::from(s.tick);
             self.lift.vz = super::ticks::offset(self.lift.r0[2], n, bias[2]);
             self.lift.vz_n = n;
