@@ -35,31 +35,30 @@
 //! # Landing
 //! Lifted, nothing is integrated. A hand holds a lifted mouse still in the air as well as on
 //! the desk, so a landing must follow a fall: the vertical velocity, integrated from the lift
-//! window's start, turning against the rise by `K_LIFT` of its sd `sqrt(q n (1 + n / N_b))`
-//! (a fall is the rise's mirror image: as fast, as visible), or, for a set-down too gentle to
-//! be seen, the longest stroke's time since the lift. A lift seen going down is its own
-//! fall: a device goes down only from above the desk, after a rise too slow for the test
-//! (5 mm over 1.2 s) or a landing taken in the air (a rotation in the hand takes `g (1 -
-//! cos theta)` off Z, which the velocity test reads as a fall, and the device held still
-//! there rests at a level gravity gives); waiting for the device to rise and fall again, it
-//! stayed lifted for the longest stroke's time after the set-down, and a stroke 0.5 s after
-//! it was lost. Then, once the last eighth of the
-//! longest stroke (0.25 s, in
-//! blocks, [`super::tilt`]) is steady on every axis (its thirds agree within `K_TILT`
-//! sd plus what the disturbance measured now can put into their means, below), the device rests: the zeros become that window's
-//! middle third's means if any differs from the old zero by more than its noise allows (set
-//! down on a slope), and stay otherwise. The middle third, not the last: while lifted no
-//! start test runs, and a stroke begun in the last third's final milliseconds leaves it
-//! steady with the others but moves its means (a new user's stroke begun 10 ms before a
-//! landing at the timeout: 1.2 LSB on X and Y, a zero from which the stroke never came to
-//! rest, delivered 4.1 m off); the thirds agree, so the middle one's level is the last's
-//! within their test. The lift test then waits `W` ticks, until its window holds only ticks
-//! at the new zero. A new zero is a tilt's in all but name (a level from 83 ms, on a pad
-//! that may settle), so a motion within the longest stroke after it is wary as after a
-//! tilt's ([`super::tilt`]): held until its acceleration reverses, as a hand's does and a
-//! zero's error never does. Without it, the lab's lifts (seed 14, trial 29: set down on a
-//! 4.8 degree slope, the zero about 1 LSB off on X) started a motion on that offset 0.3 s
-//! later and delivered 12 mm before the hold held it.
+//! window's start, turning against the rise by `K_LIFT` of its sd `sqrt(q n (1 + n / N_b))` (a
+//! fall is the rise's mirror image: as fast, as visible), or, for a set-down too gentle to be
+//! seen, the longest stroke's time since the lift. A lift seen going down is its own fall: a
+//! device goes down only from above the desk, after a rise too slow for the test (5 mm over 1.2
+//! s) or a landing taken in the air (a rotation in the hand takes `g (1 - cos theta)` off Z,
+//! which the velocity test reads as a fall, and the device held still there rests at a level
+//! gravity gives); waiting for the device to rise and fall again, it stayed lifted for the
+//! longest stroke's time after the set-down, and a stroke 0.5 s after it was lost (down is -Z:
+//! the sensor's Z reads +g at rest, as the gravity test below assumes). Then, once the last
+//! eighth of the longest stroke (0.25 s, in blocks, [`super::tilt`]) is steady on every axis
+//! (its thirds agree within `K_TILT` sd plus what the disturbance measured now can put into
+//! their means, below), the device rests: the zeros become that window's middle third's means
+//! if any differs from the old zero by more than its noise allows (set down on a slope), and
+//! stay otherwise. The middle third, not the last: while lifted no start test runs, and a
+//! stroke begun in the last third's final milliseconds leaves it steady with the others but
+//! moves its means (a new user's stroke begun 10 ms before a landing at the timeout: 1.2 LSB on
+//! X and Y, a zero from which the stroke never came to rest, delivered 4.1 m off); the thirds
+//! agree, so the middle one's level is the last's within their test. The lift test then waits
+//! `W` ticks, until its window holds only ticks at the new zero. A new zero is a tilt's in all
+//! but name (a level from 83 ms, on a pad that may settle), so a motion within the longest
+//! stroke after it is wary as after a tilt's ([`super::tilt`]): held until its acceleration
+//! reverses, as a hand's does and a zero's error never does. Without it, the lab's lifts (seed
+//! 14, trial 29: set down on a 4.8 degree slope, the zero about 1 LSB off on X) started a
+//! motion on that offset 0.3 s later and delivered 12 mm before the hold held it.
 //!
 //! # The desk's disturbance
 //! The thirds' test and the gravity test below allow for what the disturbance measured as
@@ -71,9 +70,9 @@
 //! the descent's tail in them, the Z zero came out 5.7 LSB off, a false lift followed 0.3 s
 //! later, and the stroke 1.9 s after the set-down was lost with it. And a machine started
 //! while the device was in the air was not allowed for at all: its shaking kept the thirds
-//! apart, and the device landed 0.6 to 1.5 s after the set-down instead of 0.26 s. A gentle fall's own motion measured now
-//! has not mattered in any scene: the lab's lifts, and a tester's 80 re-placements, are as
-//! they were.
+//! apart, and the device landed 0.6 to 1.5 s after the set-down instead of 0.26 s. A gentle
+//! fall's own motion measured now has not mattered in any scene: the lab's lifts, and a
+//! tester's 80 re-placements, are as they were.
 //!
 //! # Gravity at rest
 //! The thirds' test compares three means; a fall's accelerations can average alike over
