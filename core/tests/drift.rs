@@ -706,11 +706,15 @@ fn a_set_down_seen_without_its_lift_is_its_own_fall() {
 /// device landed [s], how far the cursor moved before the stroke and how far the stroke's
 /// counts end from it [mm].
 fn lift_on_a_shaking_desk(machine: f64, seed: u64) -> (Option<f64>, f64, f64) {
-    let k = 1;
+    let desk = Shaking {
+        mg: 48.0,
+        hz: 30.0,
+        k: 1,
+        machine,
+    };
+    let k = desk.k;
     let lsb = Config::default().m_s2_per_lsb;
     let (mut n, mut t) = noisy_calibrated(seed, k);
-    let amp = 48.0 * 1e-3 * 9.80665 / lsb;
-    let w = std::f64::consts::TAU * 30.0;
     let (d, dur, s0, dir) = (0.02, 1.0, 5.0, 311f64.to_radians());
     let mut cursor = Cursor::default();
     let (mut landed, mut lifted) = (None, false);
@@ -722,18 +726,11 @@ fn lift_on_a_shaking_desk(machine: f64, seed: u64) -> (Option<f64>, f64, f64) {
             _ => 0.0,
         };
         let a = d / (dur * dur) * step_accel((time - s0) / dur) / lsb;
-        let on = time - machine;
-        let v = |ph: f64| {
-            if on < 0.0 {
-                0.0
-            } else {
-                amp * (on / 0.2).min(1.0) * (w * on + ph).sin()
-            }
-        };
+        let v = desk.at(time, lsb);
         t.feed(&[[
-            noisy_code(&mut n, 2048.0 + a * dir.cos() + v(0.0), k),
-            noisy_code(&mut n, 2048.0 + a * dir.sin() + v(1.0), k),
-            noisy_code(&mut n, 2048.0 + z + v(2.0), k),
+            noisy_code(&mut n, 2048.0 + a * dir.cos() + v[0], k),
+            noisy_code(&mut n, 2048.0 + a * dir.sin() + v[1], k),
+            noisy_code(&mut n, 2048.0 + z + v[2], k),
         ]]);
         let up = t.drift_state().is_some_and(DriftState::is_lifted);
         if lifted && !up && landed.is_none() {
@@ -1038,11 +1035,7 @@ fn a_brisk_stroke_that_a_tilted_mount_puts_on_z_is_not_a_lift() {
     let d = peak * lsb * dur * dur / 5.7735; // peak = 5.7735 D / T^2
     let stroke = |i: usize| {
         let u = (i as f64 - 3000.0) / 3000.0 / dur;
-        let a = if (0.0..=1.0).contains(&u) {
-            d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u) / lsb
-        } else {
-            0.0
-        };
+        let a = d / (dur * dur) * step_accel(u) / lsb;
         [
             (2048.0 + a).round() as u16,
             2048,
@@ -1625,11 +1618,7 @@ fn stroke_outcome(
     let along = |p: [i64; 2]| (p[0] as f64 * dir.cos() + p[1] as f64 * dir.sin()) * 25.4 / 800.0;
     for i in 0..((2.5 + lead + dur) * 3000.0) as usize {
         let u = (i as f64 / 3000.0 - lead) / dur;
-        let a = if (0.0..1.0).contains(&u) {
-            d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u)
-        } else {
-            0.0
-        };
+        let a = d / (dur * dur) * step_accel(u);
         let c = [
             noisy_code(&mut n, 2048.0 + a * dir.cos() / lsb, k),
             noisy_code(&mut n, 2048.0 + a * dir.sin() / lsb, k),
@@ -1673,7 +1662,7 @@ fn legs_acc(legs: &[(f64, f64, f64)], time: f64) -> [f64; 2] {
     for &(d, dur, deg) in legs {
         let u = (time - t0) / dur;
         if (0.0..1.0).contains(&u) {
-            let a = d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u);
+            let a = d / (dur * dur) * step_accel(u);
             let r = f64::to_radians(deg);
             acc = [acc[0] + a * r.cos(), acc[1] + a * r.sin()];
         }
@@ -1770,45 +1759,44 @@ struct Shaking {
     machine: f64,
 }
 
+impl Shaking {
+    /// The machine's acceleration on X, Y and Z at `time` s into tracking [LSB, at `lsb`
+    /// m/s^2 a code]: none before it starts, then ramped in over 0.2 s.
+    fn at(&self, time: f64, lsb: f64) -> [f64; 3] {
+        let amp = self.mg * 1e-3 * 9.80665 / lsb;
+        let w = std::f64::consts::TAU * self.hz;
+        let on = time - self.machine;
+        [0.0, 1.0, 2.0].map(|ph| amp * (on / 0.2).clamp(0.0, 1.0) * (w * on + ph).sin())
+    }
+}
+
 /// A minimum-jerk stroke of `d` m over `dur` s at 311 degrees, 1.5 s after the machine of
 /// `desk` starts (noise draw `seed`, calibration on the quiet desk before): how far the
 /// cursor ends from the stroke's end 2.5 s after it, and the error allowed, max(5 %, 3
 /// floors) [mm]. With `d = 0`, how far it moved at all.
 fn stroke_on_a_shaking_desk(desk: Shaking, d: f64, dur: f64, seed: u64) -> (f64, f64) {
-    let Shaking { mg, hz, k, machine } = desk;
+    let Shaking { k, machine, .. } = desk;
     let deg = 311.0f64;
     let dir = deg.to_radians();
     let lsb = Config::default().m_s2_per_lsb;
     let nd = (11.5 * k as f64).sqrt() * lsb / 1500f64.sqrt();
     let allowed = (0.05 * d).max(3.0 * nd * dur.powf(1.5) / 6f64.sqrt()) * 1000.0;
     let (mut n, mut t) = noisy_calibrated(seed, k);
-    let mut pos = [0i64; 2];
-    let amp = mg * 1e-3 * 9.80665 / lsb;
-    let w = std::f64::consts::TAU * hz;
+    let mut cursor = Cursor::default();
     // The machine starts 2 s into tracking, the stroke 1.5 s later.
     for i in 0..((machine + 1.5 + dur + 2.5) * 3000.0) as usize {
         let time = i as f64 / 3000.0;
-        let u = (time - machine - 1.5) / dur;
-        let a = if (0.0..1.0).contains(&u) {
-            d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u) / lsb
-        } else {
-            0.0
-        };
-        let on = time - machine;
-        let v = |ph: f64| amp * (on / 0.2).clamp(0.0, 1.0) * (w * on + ph).sin();
+        let a = d / (dur * dur) * step_accel((time - machine - 1.5) / dur) / lsb;
+        let v = desk.at(time, lsb);
         let c = [
-            noisy_code(&mut n, 2048.0 + a * dir.cos() + v(0.0), k),
-            noisy_code(&mut n, 2048.0 + a * dir.sin() + v(1.0), k),
-            noisy_code(&mut n, 2048.0 + v(2.0), k),
+            noisy_code(&mut n, 2048.0 + a * dir.cos() + v[0], k),
+            noisy_code(&mut n, 2048.0 + a * dir.sin() + v[1], k),
+            noisy_code(&mut n, 2048.0 + v[2], k),
         ];
         t.feed(&[c]);
-        if i % 3 == 2 {
-            let c = t.take_counts();
-            pos = [pos[0] + i64::from(c[0]), pos[1] + i64::from(c[1])];
-        }
+        cursor.poll(&mut t, i, false);
     }
-    let end = pos.map(|p| p as f64 * 25.4 / 800.0);
-    let error = (end[0] - d * 1000.0 * dir.cos()).hypot(end[1] - d * 1000.0 * dir.sin());
+    let (_, error) = cursor.judge(d, dir);
     (error, allowed)
 }
 
@@ -2055,14 +2043,7 @@ fn a_pair_whose_first_lobe_has_left_the_replay_starts_nothing() {
     let (d1, t1, gap, d2, t2) = (0.0218f64, 1.16f64, 0.02f64, 0.0201f64, 1.57f64);
     let dir = 68f64.to_radians();
     let lsb = Config::default().m_s2_per_lsb;
-    let acc = |d: f64, dur: f64, t: f64| {
-        let u = t / dur;
-        if (0.0..1.0).contains(&u) {
-            d / (dur * dur) * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u)
-        } else {
-            0.0
-        }
-    };
+    let acc = |d: f64, dur: f64, t: f64| d / (dur * dur) * step_accel(t / dur);
     let mut n = Noise(Trace::new(36));
     let mut t = Tracker::new(&Config::default()).expect("valid");
     let cal: Vec<[u16; 3]> = (0..3000)
@@ -2216,7 +2197,7 @@ fn circle(r: f64, turns: f64, dur: f64, theta0: f64, seed: u64, k: usize) -> (f6
         if u > 0.0 && u < 1.0 {
             let phi = theta0 + sweep * u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
             let w = sweep * 30.0 * u * u * (1.0 - u) * (1.0 - u) / dur;
-            let dw = sweep * (60.0 * u - 180.0 * u * u + 120.0 * u * u * u) / (dur * dur);
+            let dw = sweep * step_accel(u) / (dur * dur);
             acc = [
                 r * (-phi.sin() * dw - phi.cos() * w * w),
                 r * (phi.cos() * dw - phi.sin() * w * w),
