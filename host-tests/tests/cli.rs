@@ -319,6 +319,64 @@ fn replay_json_says_which_settings_it_ran() {
 }
 
 #[test]
+fn replay_json_says_what_drift_control_did() {
+    // A new user asked why a stroke after a lift arrived late and had only the cursor's
+    // position to go on. 3 s at rest (calibration), a 20 mm stroke to the right (2 m/s^2 for
+    // 0.1 s, then -2 m/s^2), 1 s at rest, a 20 mm lift straight up, 0.5 s in the air and
+    // down again the same way, 2.9 s at rest: 41.8 codes per m/s^2 at the defaults.
+    let path = std::env::temp_dir().join(format!("imu-lab-cli-{}-state.csv", std::process::id()));
+    let mut csv = String::from("fs,3000\nn,x,y,z\n");
+    let pulse = |t: f64, from: f64| match t - from {
+        d if (0.0..0.1).contains(&d) => 84,
+        d if (0.1..0.2).contains(&d) => -84,
+        _ => 0,
+    };
+    for i in 0..24_000 {
+        let t = f64::from(i) / 3000.0;
+        let x = 2048 + i % 2 + pulse(t, 3.0);
+        let z = 2457 + i % 3 + pulse(t, 4.2) - pulse(t, 4.9);
+        csv += &format!("{i},{x},2047,{z}\n");
+    }
+    std::fs::write(&path, csv).expect("temp file");
+    let out = output(&[
+        "replay",
+        path.to_str().expect("utf-8 path"),
+        "--json",
+        "--every",
+        "0.05",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let points = v["points"].as_array().expect("points");
+    let state_at = |t: f64| {
+        let p = points
+            .iter()
+            .find(|p| (p["t_s"].as_f64().expect("t_s") - t).abs() < 1e-6)
+            .unwrap_or_else(|| panic!("no point at {t} s: {v}"));
+        p["state"]
+            .as_str()
+            .unwrap_or_else(|| panic!("no state: {p}"))
+            .to_string()
+    };
+    assert_eq!(state_at(2.9), "still");
+    // Moving from its start (held first, or delivered), still again after it.
+    assert!(
+        ["moving", "held"].contains(&state_at(3.15).as_str()),
+        "{}",
+        state_at(3.15)
+    );
+    assert_eq!(state_at(4.0), "still");
+    // Up at 4.2-4.4 s, in the air until 4.9 s.
+    assert_eq!(state_at(4.6), "lifted");
+    assert_eq!(state_at(7.95), "still");
+    // 84 codes of 0.0239 m/s^2 for 0.1 s each way: 20.1 mm, 633 counts at 800 counts/inch;
+    // within target 1's 5 %.
+    let right = v["counts"][0].as_i64().expect("counts");
+    assert!((601..=665).contains(&right), "{right}");
+    std::fs::remove_file(path).ok();
+}
+
+#[test]
 fn device_arguments_are_refused_before_any_device_is_asked() {
     // Nothing listens on port 9: a command that tried to connect would fail with status 1.
     let dir = std::env::temp_dir();

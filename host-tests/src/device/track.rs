@@ -35,6 +35,23 @@ pub struct TrackPoint {
     pub x_mm: f64,
     /// The same in millimetres.
     pub y_mm: f64,
+    /// What drift control was doing at that moment: `still`, `moving`, `held` (a motion
+    /// integrated but not yet delivered: younger than its hold, or held by the tilt tests),
+    /// `lifted` (tracking suspended until the device rests on the desk) or `frozen` (after a
+    /// button edge); `None` without drift control.
+    pub state: Option<&'static str>,
+}
+
+/// Drift control's state as [`TrackPoint::state`] names it.
+fn state_name(tracker: &Tracker) -> Option<&'static str> {
+    use imu_core::drift::State;
+    Some(match tracker.drift_state()? {
+        State::Still => "still",
+        State::Moving if tracker.is_holding() => "held",
+        State::Moving => "moving",
+        State::Lifted => "lifted",
+        State::Frozen => "frozen",
+    })
 }
 
 /// What the device did with a stream of samples.
@@ -128,6 +145,7 @@ pub fn run_mapped(
             y_counts: sent.1,
             x_mm: sent.0 as f64 * mm_per_count,
             y_mm: sent.1 as f64 * mm_per_count,
+            state: state_name(&tracker),
         };
         if tracker.phase() == Phase::Tracking {
             if n % per_point == 0 {
@@ -163,7 +181,7 @@ pub fn run_mapped(
 /// The track as a readable table.
 pub fn table(t: &Track) -> String {
     let mut out = format!(
-        "{} samples at {} Hz; calibration {}; {} rejected window(s)\n{:>9} {:>11} {:>11} {:>11} {:>11}\n",
+        "{} samples at {} Hz; calibration {}; {} rejected window(s)\n{:>9} {:>11} {:>11} {:>11} {:>11}  {}\n",
         t.samples,
         t.fs,
         match (t.tracking_from_s, &t.calibration_failure) {
@@ -176,12 +194,18 @@ pub fn table(t: &Track) -> String {
         "right [cnt]",
         "down [cnt]",
         "right [mm]",
-        "down [mm]"
+        "down [mm]",
+        "drift control"
     );
     for p in &t.points {
         out += &format!(
-            "{:>9.3} {:>11} {:>11} {:>11.2} {:>11.2}\n",
-            p.t_s, p.x_counts, p.y_counts, p.x_mm, p.y_mm
+            "{:>9.3} {:>11} {:>11} {:>11.2} {:>11.2}  {}\n",
+            p.t_s,
+            p.x_counts,
+            p.y_counts,
+            p.x_mm,
+            p.y_mm,
+            p.state.unwrap_or("off")
         );
     }
     out += &format!(
