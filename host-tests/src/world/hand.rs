@@ -12,7 +12,7 @@
 //! |---|---|---|
 //! | pointing stroke | [`Motion::Stroke`] | minimum jerk, `a = D/T^2 (60 u - 180 u^2 + 120 u^3)` |
 //! | drag | [`Motion::Drag`] | velocity `V s(t / ramp)` up, a glide at `V`, the mirror image down; `s` the minimum-jerk step (jerk-limited ramps) |
-//! | lift and set-down | [`Motion::Lift`] | a minimum-jerk rise of `h`, time in the air, a minimum-jerk fall; the tilt changes in the air or as it lands |
+//! | lift and set-down | [`Motion::Lift`] | a minimum-jerk rise of `h`, time in the air, a minimum-jerk fall; the tilt changes in the air or as it lands, or the hand tilts the device in the air and back as it sets it down |
 //! | pad tilt | [`Motion::Tilt`] | the angle from `from` to `to` along a minimum-jerk step |
 //! | knock | [`Motion::Knock`] | a desk-top flex that returns (a raised-cosine dip of `flex`) and a ring at `f` decaying over a few periods, with zero net velocity and displacement |
 //! | machine vibration | [`Motion::Vibration`] | a sinusoid ramped in over 0.2 s, on Z or on every axis |
@@ -219,7 +219,8 @@ pub enum Motion {
     },
     /// A lift of `h` over `rise`, `air` in the air, set down over `fall`; the tilt goes from
     /// `from` to `to` in the air (`in_air`) or over the last half of the fall (landing on
-    /// one edge first).
+    /// one edge first); or, with a `wobble`, the hand tilts the device to it over the rise and
+    /// the first half of the air, and to `to` over the rest of the air and the fall.
     Lift {
         /// Start [s].
         t0: f64,
@@ -237,6 +238,8 @@ pub enum Motion {
         to: [f64; 2],
         /// Whether it tilts in the air.
         in_air: bool,
+        /// The tilt the hand gives it in the air [rad], if it wobbles.
+        wobble: Option<[f64; 2]>,
     },
     /// The pad under the device tilts from `from` to `to` over `dur`.
     Tilt {
@@ -337,6 +340,7 @@ impl std::fmt::Display for Motion {
                 from,
                 to,
                 in_air,
+                wobble,
             } => write!(
                 f,
                 "at {t0:.3} s a lift of {:.1} mm: up over {:.0} ms, {:.0} ms in the air, down \
@@ -347,7 +351,11 @@ impl std::fmt::Display for Motion {
                 fall * 1e3,
                 tilt(from),
                 tilt(to),
-                if in_air { "in the air" } else { "as it lands" }
+                match wobble {
+                    Some(w) => format!("by way of {} in the air", tilt(w)),
+                    None if in_air => "in the air".to_string(),
+                    None => "as it lands".to_string(),
+                }
             ),
             Motion::Tilt { t0, dur, from, to } => write!(
                 f,
@@ -532,8 +540,17 @@ impl Motion {
                 from,
                 to,
                 in_air,
+                wobble,
                 ..
             } => {
+                if let Some(w) = wobble {
+                    let turn = t0 + rise + air / 2.0;
+                    return Some(if t < turn {
+                        lerp(from, w, step((t - t0) / (turn - t0)))
+                    } else {
+                        lerp(w, to, step((t - turn) / (air / 2.0 + fall)))
+                    });
+                }
                 let (start, len) = if in_air {
                     (t0 + rise, air)
                 } else {
@@ -766,11 +783,35 @@ mod tests {
             from: [0.0; 2],
             to: [0.05, 0.0],
             in_air: true,
+            wobble: None,
         };
         let (v, s) = integrate(&l, 1.0, 2);
         assert!(v.abs() < 1e-9 && s.abs() < 1e-9, "{v} {s}");
         let (_, top) = integrate(&l, 0.35, 2);
         assert!((top - 0.005).abs() < 1e-9, "{top}");
+    }
+
+    #[test]
+    fn a_wobbling_lift_tilts_in_the_air_and_lands_at_its_slope() {
+        let l = Motion::Lift {
+            t0: 1.0,
+            h: 0.005,
+            rise: 0.2,
+            air: 0.4,
+            fall: 0.2,
+            from: [0.01, 0.0],
+            to: [0.0, 0.05],
+            in_air: false,
+            wobble: Some([-0.15, 0.1]),
+        };
+        let at = |t: f64| l.tilt(t).expect("a lift tilts");
+        assert_eq!(at(0.5), [0.01, 0.0]);
+        // At its widest half-way through the air, then down to the slope as it touches.
+        assert_eq!(at(1.4), [-0.15, 0.1]);
+        let [x, y] = at(1.6);
+        assert!(x > -0.15 && x < 0.0 && y < 0.1 && y > 0.05, "{x} {y}");
+        assert_eq!(at(1.8), [0.0, 0.05]);
+        assert_eq!(at(3.0), [0.0, 0.05]);
     }
 
     #[test]
@@ -784,6 +825,7 @@ mod tests {
             from: [0.0; 2],
             to: [0.05, 0.0],
             in_air: true,
+            wobble: None,
         };
         let back = Motion::Lift {
             t0: 3.0,
@@ -794,6 +836,7 @@ mod tests {
             from: [0.05, 0.0],
             to: [0.0; 2],
             in_air: true,
+            wobble: None,
         };
         let sc = Scenario {
             motions: vec![away, back],

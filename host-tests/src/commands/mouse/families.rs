@@ -940,19 +940,29 @@ pub fn all(drift: Option<Drift>, z: Sizes, seed: u64) -> Vec<Family> {
     out
 }
 
-/// A random lift of 3-20 mm rising in 0.15-0.5 s from tilt `from` onto `to`, tilting in
-/// the air or as it lands, from `t0`.
+/// A random lift of 3-20 mm rising in 0.15-0.5 s from tilt `from` onto `to`, from `t0`:
+/// tilting in the air or as it lands, and one in three wobbling in the hand by 2-10 degrees
+/// about any horizontal axis on the way (back to `to` as it is set down).
 fn lift_motion(rng: &mut SimRng, t0: f64, from: [f64; 2], to: [f64; 2]) -> Motion {
     let rise = uniform(rng, 0.15, 0.5);
+    let h = log_uniform(rng, 0.003, 0.02);
+    let air = uniform(rng, 0.1, 0.5);
+    let fall = rise * uniform(rng, 0.8, 1.25);
+    let in_air = rng_seed(rng).is_multiple_of(2);
+    let wobble = rng_seed(rng).is_multiple_of(3).then(|| {
+        let deg = uniform(rng, 2.0, 10.0);
+        tilt_of(rng, deg)
+    });
     Motion::Lift {
         t0,
-        h: log_uniform(rng, 0.003, 0.02),
+        h,
         rise,
-        air: uniform(rng, 0.1, 0.5),
-        fall: rise * uniform(rng, 0.8, 1.25),
+        air,
+        fall,
         from,
         to,
-        in_air: rng_seed(rng).is_multiple_of(2),
+        in_air,
+        wobble,
     }
 }
 
