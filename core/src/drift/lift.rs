@@ -591,3 +591,48 @@ impl State {
         matches!(self, State::Lifted)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibration::Calibration;
+
+    #[test]
+    fn a_landing_in_doubt_keeps_its_zeros_turn_over_g_and_a_sure_one_none() {
+        let m_s2_per_lsb = 0.0235;
+        let Ok(s) = crate::drift::Drift::default().validate(3000, m_s2_per_lsb) else {
+            panic!("the default drift control is valid at 3 kHz");
+        };
+        let c = Calibration {
+            bias_q16: 2048 << 16,
+            noise_rms_q16: 1 << 16,
+            samples: 3000,
+            tick_var_q32: 3 << 32,
+            long_run_var_q32: 3 << 32,
+            tick_lags_q32: [0; 3],
+        };
+        let mut d = Detector::new(&s, &[c; 3]);
+        // Level, then tilted 8 degrees about an axis at 30 degrees: X and Y gain g sin 8 cos 30
+        // and g sin 8 sin 30 (the second negative), Z loses g (1 - cos 8); in Q16 LSB.
+        let g = 9.80665 / m_s2_per_lsb;
+        let (th, az) = (8f64.to_radians(), 30f64.to_radians());
+        let q16 = |lsb: f64| (lsb * 65_536.0).round() as i64;
+        let from = [q16(2048.0), q16(2048.0), q16(2048.0 + g)];
+        let to = [
+            q16(2048.0 + g * th.sin() * az.cos()),
+            q16(2048.0 - g * th.sin() * az.sin()),
+            q16(2048.0 + g * th.cos()),
+        ];
+        d.lift.sure = false;
+        d.landed(&s, from, to);
+        assert!(d.lift.doubt);
+        // (|dx| + |dy|) / g = sin 8 (cos 30 + sin 30), in Q12.
+        let want = th.sin() * (az.cos() + az.sin()) * 4096.0;
+        let got = f64::from(d.lift.doubt_tilt_q12);
+        assert!((got - want).abs() <= 1.0, "{got} against {want}");
+        // After a sure fall the landing is trusted, and the zeros it took do not matter.
+        d.lift.sure = true;
+        d.landed(&s, from, to);
+        assert!(!d.lift.doubt);
+    }
+}
