@@ -277,7 +277,7 @@ fn curvature(l: &LiftSettings, o: [i64; 3], n: u64) -> u64 {
 
 /// What a rotation with no motion can put into Z's sum of `n` samples with offsets `o` [Q16
 /// LSB samples], either way: `r (|o_x| + |o_y|)` for the old rest's orientation within
-/// `mount_tilt_deg` of Z, and the curvature (module docs, "Landing").
+/// `mount_tilt_deg` of Z, and the curvature (module docs, "A landing in doubt").
 fn turn(l: &LiftSettings, o: [i64; 3], n: u64) -> u64 {
     let h =
         (o[0].unsigned_abs().saturating_add(o[1].unsigned_abs())).saturating_mul(l.mount_q16) >> 16;

@@ -1112,8 +1112,8 @@ impl Detector {
 
     /// Enters Still: the start tests begin afresh from here. Out of line: a state change,
     /// rare, and inlined into the per-sample path (a click's freeze ending) it only adds to
-    /// that path's register pressure (0.6 instructions per axis-sample at 3 kHz when LLVM
-    /// chose to inline it).
+    /// that path's register pressure (1.3 instructions per axis-sample at 3 kHz when LLVM
+    /// chose to inline it, on the nineteenth stop).
     #[inline(never)]
     pub(crate) fn enter_still(&mut self) {
         self.enter(State::Still);
