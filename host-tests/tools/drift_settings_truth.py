@@ -186,7 +186,10 @@ def derive(d, fs):
     k = z_upper(0.5 / chances)
     n = window * tick
     put("lift_window", window)
-    put("lift_persist", max(math.ceil(0.5 / d["knock_hz"] / tick_s), 1))
+    persist = max(math.ceil(0.5 / d["knock_hz"] / tick_s), 1)
+    put("lift_persist", persist)
+    # A set-down begun as a motion stops is seen by the end of the slowest rise, plus P.
+    put("lift_seen", rnd(d["lift_rise_s"] / tick_s) + persist)
     put("lift_k2", k * k)
     put("lift_mount", math.sin(math.radians(d["mount_tilt_deg"])))
     put("lift_cube", n ** 3)

@@ -560,7 +560,7 @@ impl Detector {
         if quiet && self.motion.long_calm > s.calm_max {
             // What the tilt tests held of it was never delivered: that glide is dropped too.
             let held = self.tilt.held();
-            self.enter_still();
+            self.still_after_motion(s);
             return if held { Action::Discard } else { Action::Stop };
         }
         // Calm for the stop's wait with its velocity against its own travel: the ramp down
@@ -582,7 +582,7 @@ impl Detector {
             let samples = self.motion.samples;
             let discarded_only = self.motion.unproven;
             let real_end = self.real_end;
-            self.enter_still();
+            self.still_after_motion(s);
             if discarded_only {
                 self.real_end = real_end;
             }

@@ -577,12 +577,11 @@ impl Drift {
             None => None,
             Some(r) if within(r, LIFT_RISE_S.0, LIFT_RISE_S.1) => Some(
                 lift::LiftSettings::new(
-                    r * t.lift_window,
+                    (r, r * t.lift_window),
                     self.knock_hz,
                     self.mount_tilt_deg,
                     self.false_start_hours,
-                    tick_s,
-                    tick,
+                    (tick_s, tick),
                     m_s2_per_lsb,
                 )
                 .ok_or(DriftError::Lift)?,
@@ -807,7 +806,8 @@ impl DriftSettings {
             f("lift_window", 0, n(l.window));
             f("lift_persist", 0, n(l.persist));
             f("lift_k2", 0, q8(l.k2_q8));
-            f("lift_mount", 0, q16(l.mount_q16));
+            f("lift_mount", 0, q16(u64::from(l.mount_q16)));
+            f("lift_seen", 0, n(u32::from(l.seen)));
             f("lift_cube", 0, l.cube as f64);
             f("lift_two_g", 0, q16(l.two_g_q16));
             f("lift_cube_4_3", 0, l.cube_4_3 as f64);
@@ -936,6 +936,9 @@ pub struct Detector {
     pub(crate) lift: lift::Lift,
     pub(crate) click: click::Click,
     pub(crate) state: State,
+    /// At rest after a motion soon after a landing in doubt: for this many ticks since the
+    /// rest began, what it moved is held ([`lift::LiftSettings`]' `seen`; 0 otherwise).
+    pub(crate) air: u8,
     /// The tick at which the current state was entered.
     pub(crate) entered: u64,
     /// Samples the current zero is averaged over.
@@ -966,6 +969,7 @@ impl Detector {
             lift: lift::Lift::default(),
             click: click::Click::default(),
             state: State::Still,
+            air: 0,
             entered: 0,
             bias_samples: u64::from(cal[0].samples),
             tilted_until: 0,
@@ -985,10 +989,25 @@ impl Detector {
 
     /// Whether a motion is held back from delivery: younger than the hold, started on a
     /// disturbed desk and not yet out of its velocity, or held by the tilt tests and not yet
-    /// confirmed or released.
+    /// confirmed or released; or, at rest, what a motion soon after a landing in doubt moved,
+    /// until a set-down could have been seen ([`lift`]).
     pub const fn holds(&self) -> bool {
-        matches!(self.state, State::Moving)
-            && (self.click.hold_left > 0 || self.tilt.held() || self.motion.unproven)
+        match self.state {
+            State::Moving => self.motion_held(),
+            State::Still => self.air_held(),
+            State::Lifted | State::Frozen => false,
+        }
+    }
+
+    /// [`Self::holds`] while moving.
+    const fn motion_held(&self) -> bool {
+        self.click.hold_left > 0 || self.tilt.held() || self.motion.unproven
+    }
+
+    /// [`Self::holds`] at rest: within `air` ticks of a motion's stop. (The flag first: at
+    /// rest, where it is 0, a read-out asks no more.)
+    const fn air_held(&self) -> bool {
+        self.air != 0 && self.stream.ticks() - self.entered < self.air as u64
     }
 
     /// Whether delivery pauses: a motion [held](Self::holds), or one in the reversed stop's
@@ -997,11 +1016,16 @@ impl Detector {
     /// if the wait ends otherwise ([`estimator`]). `velocity`, the axes' velocities (`W`, Q16
     /// counts times samples), is asked for only for a motion not held.
     pub fn pauses(&self, velocity: impl FnOnce() -> [i64; 3]) -> bool {
-        self.holds()
-            || matches!(self.state, State::Moving) && {
-                let w = velocity();
-                self.backing([w[0], w[1]])
+        match self.state {
+            State::Moving => {
+                self.motion_held() || {
+                    let w = velocity();
+                    self.backing([w[0], w[1]])
+                }
             }
+            State::Still => self.air_held(),
+            State::Lifted | State::Frozen => false,
+        }
     }
 
     /// The sample stream was interrupted (a sampling restart): whatever was moving is over,
@@ -1117,6 +1141,7 @@ impl Detector {
     #[inline(never)]
     pub(crate) fn enter_still(&mut self) {
         self.enter(State::Still);
+        self.air = 0;
         self.real_end = self.stream.ticks();
         self.learn.restart();
         self.tilt = tilt::Tilt::default();

@@ -153,6 +153,8 @@
 //! zero a little off, that nothing gave it (delivered, 0.15-0.9 m arrived at once). One that
 //! ends sooner is delivered: a slow stroke that the stop tests end at its mid-point is two
 //! motions of one lobe each (dropped, small slow strokes after a tilt were lost whole).
+//! After a landing in doubt the reversal does not release it: it may be a carry in the air,
+//! held until it stops ([`super::lift`], "A landing in doubt").
 //!
 //! `K_TILT = 3`: a sub-window of a tilt falls short with probability 0.13 % (the hold is
 //! then released, and taken again a sub-window later).
@@ -185,6 +187,9 @@ pub struct Tilt {
     /// sign seen on each horizontal axis.
     wary: bool,
     first: [i8; 2],
+    /// A motion soon after a landing in doubt ([`super::lift`]): it may be a carry in the
+    /// air, which a set-down ends; held until it stops, whatever its acceleration does.
+    air: bool,
     /// Wary because it may be the end of a glide the start tests missed ([`super::rest`]):
     /// calm and unreversed within the lone lobe's velocity, it is dropped
     /// ([`super::estimator`]).
@@ -234,6 +239,11 @@ impl Tilt {
     /// reversed since (see the module docs).
     pub(crate) const fn unreversed(&self) -> bool {
         self.wary
+    }
+
+    /// Whether the motion began soon after a landing in doubt ([`super::lift`]).
+    pub(crate) const fn in_air(&self) -> bool {
+        self.air
     }
 
     /// Whether the motion began as a lone lobe's mate ([`super::rest`]).
@@ -310,10 +320,13 @@ impl Detector {
         lone: bool,
         bias: [i64; 3],
     ) {
-        let wary = lone || self.stream.ticks() < self.tilted_until;
+        let soon = self.stream.ticks() < self.tilted_until;
+        let wary = lone || soon;
+        let air = soon && self.lift.in_doubt();
         self.tilt = Tilt {
             wary,
             held: wary,
+            air,
             lone,
             ..Tilt::default()
         };
@@ -449,7 +462,7 @@ impl Detector {
         if let (Some(scale), None) = (self.confirmable(s, sided), self.tilt.shadow) {
             return self.confirm(s, bias, scale);
         }
-        let held = self.tilt.wary || sided.iter().any(|&b| b >= hold);
+        let held = self.tilt.wary || self.tilt.air || sided.iter().any(|&b| b >= hold);
         if self.tilt.shadow.is_some() {
             return Action::None; // held until an end decides
         }
