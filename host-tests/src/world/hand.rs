@@ -12,7 +12,7 @@
 //! |---|---|---|
 //! | pointing stroke | [`Motion::Stroke`] | minimum jerk, `a = D/T^2 (60 u - 180 u^2 + 120 u^3)` |
 //! | drag | [`Motion::Drag`] | velocity `V s(t / ramp)` up, a glide at `V`, the mirror image down; `s` the minimum-jerk step (jerk-limited ramps) |
-//! | lift and set-down | [`Motion::Lift`] | a minimum-jerk rise of `h`, time in the air, a minimum-jerk fall; the tilt changes in the air or as it lands, or the hand tilts the device in the air and back as it sets it down |
+//! | lift and set-down | [`Motion::Lift`] | a minimum-jerk rise of `h`, time in the air, a minimum-jerk fall; the tilt changes in the air or as it lands, or the hand tilts the device in the air and back as it sets it down, perhaps holding it still there first; a minimum-jerk carry along the desk through the air |
 //! | pad tilt | [`Motion::Tilt`] | the angle from `from` to `to` along a minimum-jerk step |
 //! | knock | [`Motion::Knock`] | a desk-top flex that returns (a raised-cosine dip of `flex`) and a ring at `f` decaying over a few periods, with zero net velocity and displacement |
 //! | machine vibration | [`Motion::Vibration`] | a sinusoid ramped in over 0.2 s, on Z or on every axis |
@@ -220,7 +220,11 @@ pub enum Motion {
     /// A lift of `h` over `rise`, `air` in the air, set down over `fall`; the tilt goes from
     /// `from` to `to` in the air (`in_air`) or over the last half of the fall (landing on
     /// one edge first); or, with a `wobble`, the hand tilts the device to it over the rise and
-    /// the first half of the air, and to `to` over the rest of the air and the fall.
+    /// the first half of the air, and to `to` over the rest of the air and the fall. With a
+    /// `hover`, the hand holds it still in the air for that long first (tilted to the wobble
+    /// over the rise and back to `to` over the fall, if it wobbles); with a `carry`, it
+    /// carries it that far along the desk (minimum jerk, the device's axes) from the rise's
+    /// middle (or the hover's end) to the fall's middle.
     Lift {
         /// Start [s].
         t0: f64,
@@ -240,6 +244,10 @@ pub enum Motion {
         in_air: bool,
         /// The tilt the hand gives it in the air [rad], if it wobbles.
         wobble: Option<[f64; 2]>,
+        /// Held still in the air at its start [s], 0 for none (part of `air`).
+        hover: f64,
+        /// Carried in the air [m, X and Y], zero for none.
+        carry: [f64; 2],
     },
     /// The pad under the device tilts from `from` to `to` over `dur`.
     Tilt {
@@ -341,14 +349,30 @@ impl std::fmt::Display for Motion {
                 to,
                 in_air,
                 wobble,
+                hover,
+                carry,
             } => write!(
                 f,
-                "at {t0:.3} s a lift of {:.1} mm: up over {:.0} ms, {:.0} ms in the air, down \
-                 over {:.0} ms; tilt {} to {} {}",
+                "at {t0:.3} s a lift of {:.1} mm: up over {:.0} ms, {:.0} ms in the air{}, down \
+                 over {:.0} ms{}; tilt {} to {} {}",
                 h * 1e3,
                 rise * 1e3,
                 air * 1e3,
+                if hover > 0.0 {
+                    format!(" ({:.0} ms of it held still)", hover * 1e3)
+                } else {
+                    String::new()
+                },
                 fall * 1e3,
+                if carry == [0.0; 2] {
+                    String::new()
+                } else {
+                    format!(
+                        ", carried {:.1} mm at {:.0} deg",
+                        carry[0].hypot(carry[1]) * 1e3,
+                        deg(carry[1].atan2(carry[0]))
+                    )
+                },
                 tilt(from),
                 tilt(to),
                 match wobble {
@@ -458,12 +482,17 @@ impl Motion {
                 rise,
                 air,
                 fall,
+                hover,
+                carry,
                 ..
             } => {
                 let u = t - t0;
                 let z = h / (rise * rise) * step_accel(u / rise)
                     - h / (fall * fall) * step_accel((u - rise - air) / fall);
-                [0.0, 0.0, z]
+                let (from, to) = carry_span(rise, air, fall, hover);
+                let dur = to - from;
+                let c = step_accel((u - from) / dur) / (dur * dur);
+                [carry[0] * c, carry[1] * c, z]
             }
             Motion::Tilt { .. } => [0.0; 3],
             Motion::Figure {
@@ -541,8 +570,17 @@ impl Motion {
                 to,
                 in_air,
                 wobble,
+                hover,
                 ..
             } => {
+                if let (Some(w), true) = (wobble, hover > 0.0) {
+                    let down = t0 + rise + air;
+                    return Some(if t < down {
+                        lerp(from, w, step((t - t0) / rise))
+                    } else {
+                        lerp(w, to, step((t - down) / fall))
+                    });
+                }
                 if let Some(w) = wobble {
                     let turn = t0 + rise + air / 2.0;
                     return Some(if t < turn {
@@ -606,6 +644,17 @@ impl Motion {
             _ => [0.0; 2],
         }
     }
+}
+
+/// When a lift's carry begins and ends [s after the lift's start]: from the rise's middle,
+/// or from the end of a `hover` after the rise, to the fall's middle.
+fn carry_span(rise: f64, air: f64, fall: f64, hover: f64) -> (f64, f64) {
+    let from = if hover > 0.0 {
+        rise + hover
+    } else {
+        rise / 2.0
+    };
+    (from, rise + air + fall / 2.0)
 }
 
 /// A figure's position `p(phi)` and its derivatives `p'`, `p''` in `phi` [m], for a circle
@@ -784,6 +833,8 @@ mod tests {
             to: [0.05, 0.0],
             in_air: true,
             wobble: None,
+            hover: 0.0,
+            carry: [0.0; 2],
         };
         let (v, s) = integrate(&l, 1.0, 2);
         assert!(v.abs() < 1e-9 && s.abs() < 1e-9, "{v} {s}");
@@ -803,6 +854,8 @@ mod tests {
             to: [0.0, 0.05],
             in_air: false,
             wobble: Some([-0.15, 0.1]),
+            hover: 0.0,
+            carry: [0.0; 2],
         };
         let at = |t: f64| l.tilt(t).expect("a lift tilts");
         assert_eq!(at(0.5), [0.01, 0.0]);
@@ -812,6 +865,43 @@ mod tests {
         assert!(x > -0.15 && x < 0.0 && y < 0.1 && y > 0.05, "{x} {y}");
         assert_eq!(at(1.8), [0.0, 0.05]);
         assert_eq!(at(3.0), [0.0, 0.05]);
+    }
+
+    #[test]
+    fn a_hover_holds_its_tilt_still_in_the_air_and_a_carry_ends_at_rest_where_it_went() {
+        // Up over 0.2 s, 0.9 s in the air of which 0.5 s held still, down over 0.2 s; carried
+        // 40 mm along X and 30 along -Y from the hover's end to the fall's middle.
+        let l = Motion::Lift {
+            t0: 1.0,
+            h: 0.005,
+            rise: 0.2,
+            air: 0.9,
+            fall: 0.2,
+            from: [0.0; 2],
+            to: [0.02, 0.0],
+            in_air: false,
+            wobble: Some([0.1, -0.05]),
+            hover: 0.5,
+            carry: [0.04, -0.03],
+        };
+        let at = |t: f64, want: [f64; 2]| {
+            let got = l.tilt(t).expect("a lift tilts");
+            assert!(
+                (0..2).all(|j| (got[j] - want[j]).abs() < 1e-12),
+                "{t}: {got:?}"
+            );
+        };
+        // Tilted over the rise, held through the air, onto the slope over the fall.
+        at(1.2, [0.1, -0.05]);
+        at(2.0, [0.1, -0.05]);
+        at(2.4, [0.02, 0.0]);
+        // Still while it hovers: no acceleration from 1.2 to 1.7 s.
+        assert!((1..50).all(|i| l.accel(1.2 + f64::from(i) * 0.01) == [0.0; 3]));
+        for (axis, d) in [(0, 0.04), (1, -0.03)] {
+            let (v, s) = integrate(&l, 3.0, axis);
+            assert!(v.abs() < 1e-9 && (s - d).abs() < 1e-9, "{axis}: {v} {s}");
+        }
+        assert_eq!(l.displacement(), [0.0; 2], "a carry is no stroke");
     }
 
     #[test]
@@ -826,6 +916,8 @@ mod tests {
             to: [0.05, 0.0],
             in_air: true,
             wobble: None,
+            hover: 0.0,
+            carry: [0.0; 2],
         };
         let back = Motion::Lift {
             t0: 3.0,
@@ -837,6 +929,8 @@ mod tests {
             to: [0.0; 2],
             in_air: true,
             wobble: None,
+            hover: 0.0,
+            carry: [0.0; 2],
         };
         let sc = Scenario {
             motions: vec![away, back],

@@ -942,7 +942,11 @@ pub fn all(drift: Option<Drift>, z: Sizes, seed: u64) -> Vec<Family> {
 
 /// A random lift of 3-20 mm rising in 0.15-0.5 s from tilt `from` onto `to`, from `t0`:
 /// tilting in the air or as it lands, and one in three wobbling in the hand by 2-10 degrees
-/// about any horizontal axis on the way (back to `to` as it is set down).
+/// about any horizontal axis on the way (back to `to` as it is set down); half of the
+/// wobbling ones are held still in the air, tilted, for 0.3-1 s first (a hover), and one
+/// lift in two carries the device 10-80 mm in any direction (since the twentieth stop). The
+/// hover and the carry are drawn from a stream seeded by the lift's own draws, so that every
+/// other draw of a family is as it was.
 fn lift_motion(rng: &mut SimRng, t0: f64, from: [f64; 2], to: [f64; 2]) -> Motion {
     let rise = uniform(rng, 0.15, 0.5);
     let h = log_uniform(rng, 0.003, 0.02);
@@ -953,16 +957,33 @@ fn lift_motion(rng: &mut SimRng, t0: f64, from: [f64; 2], to: [f64; 2]) -> Motio
         let deg = uniform(rng, 2.0, 10.0);
         tilt_of(rng, deg)
     });
+    let mut side = noise::rng(h.to_bits() ^ rise.to_bits().rotate_left(23) ^ air.to_bits());
+    let hover = if wobble.is_some() && rng_seed(&mut side).is_multiple_of(2) {
+        uniform(&mut side, 0.3, 1.0)
+    } else {
+        0.0
+    };
+    let carry = if rng_seed(&mut side).is_multiple_of(2) {
+        let (d, dir) = (
+            uniform(&mut side, 0.01, 0.08),
+            uniform(&mut side, 0.0, std::f64::consts::TAU),
+        );
+        [d * dir.cos(), d * dir.sin()]
+    } else {
+        [0.0; 2]
+    };
     Motion::Lift {
         t0,
         h,
         rise,
-        air,
+        air: air + hover,
         fall,
         from,
         to,
         in_air,
         wobble,
+        hover,
+        carry,
     }
 }
 
