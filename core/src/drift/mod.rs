@@ -993,15 +993,10 @@ impl Detector {
     /// until a set-down could have been seen ([`lift`]).
     pub const fn holds(&self) -> bool {
         match self.state {
-            State::Moving => self.motion_held(),
+            State::Moving => self.click.hold_left > 0 || self.tilt.held() || self.motion.unproven,
             State::Still => self.air_held(),
             State::Lifted | State::Frozen => false,
         }
-    }
-
-    /// [`Self::holds`] while moving.
-    const fn motion_held(&self) -> bool {
-        self.click.hold_left > 0 || self.tilt.held() || self.motion.unproven
     }
 
     /// [`Self::holds`] at rest: within `air` ticks of a motion's stop. (The flag first: at
@@ -1016,16 +1011,11 @@ impl Detector {
     /// if the wait ends otherwise ([`estimator`]). `velocity`, the axes' velocities (`W`, Q16
     /// counts times samples), is asked for only for a motion not held.
     pub fn pauses(&self, velocity: impl FnOnce() -> [i64; 3]) -> bool {
-        match self.state {
-            State::Moving => {
-                self.motion_held() || {
-                    let w = velocity();
-                    self.backing([w[0], w[1]])
-                }
+        self.holds()
+            || matches!(self.state, State::Moving) && {
+                let w = velocity();
+                self.backing([w[0], w[1]])
             }
-            State::Still => self.air_held(),
-            State::Lifted | State::Frozen => false,
-        }
     }
 
     /// The sample stream was interrupted (a sampling restart): whatever was moving is over,
