@@ -350,7 +350,7 @@ pub enum Kind {
     Lifts,
     /// Target 3: the pad tilts 0.5-5 degrees under the device over 0.3-2 s.
     PadTilts,
-    /// Target 3: a stroke 0.1-2 s after a pad tilt or a set-down.
+    /// Target 3: a stroke 0.1-2 s after a pad tilt (one in two rocked back) or a set-down.
     AfterTilt,
     /// Target 4: a knock of 0.05-0.5 g at rest.
     Knocks,
@@ -533,19 +533,14 @@ impl Kind {
                 let deg = uniform(rng, 0.5, 5.0);
                 let to = tilt_of(rng, deg);
                 let m = if rng_seed(rng).is_multiple_of(2) {
-                    let dur = uniform(rng, 0.3, 2.0);
-                    Motion::Tilt {
-                        t0: LEAD_S,
-                        dur,
-                        from: [0.0; 2],
-                        to,
-                    }
+                    pad_motions(rng, to)
                 } else {
-                    lift_motion(rng, LEAD_S, [0.0; 2], to)
+                    vec![lift_motion(rng, LEAD_S, [0.0; 2], to)]
                 };
+                let end = m.iter().map(Motion::end).fold(0.0, f64::max);
                 let gap = uniform(rng, 0.1, 2.0);
-                let s = stroke(rng, m.end() + gap);
-                stroke_case(vec![m], s, Some(t_rest(gap)))
+                let s = stroke(rng, end + gap);
+                stroke_case(m, s, Some(t_rest(gap)))
             }
             Kind::Knocks => {
                 let m = random_knock(rng, LEAD_S);
@@ -985,6 +980,32 @@ fn lift_motion(rng: &mut SimRng, t0: f64, from: [f64; 2], to: [f64; 2]) -> Motio
         hover,
         carry,
     }
+}
+
+/// A pad tilting to `to` over 0.3-2 s from `LEAD_S`; one in two goes back, after 0-1 s,
+/// over 0.3-2 s (pressed and let go, or rocked on its base by the hand: it returns to where
+/// it rested). The rock is drawn from a stream the tilt's own draws seed, so the other draws
+/// are as they were.
+fn pad_motions(rng: &mut SimRng, to: [f64; 2]) -> Vec<Motion> {
+    let dur = uniform(rng, 0.3, 2.0);
+    let tilt = Motion::Tilt {
+        t0: LEAD_S,
+        dur,
+        from: [0.0; 2],
+        to,
+    };
+    let mut side = noise::rng(dur.to_bits() ^ to[0].to_bits().rotate_left(17) ^ to[1].to_bits());
+    if !rng_seed(&mut side).is_multiple_of(2) {
+        return vec![tilt];
+    }
+    let hold = uniform(&mut side, 0.0, 1.0);
+    let back = Motion::Tilt {
+        t0: tilt.end() + hold,
+        dur: uniform(&mut side, 0.3, 2.0),
+        from: to,
+        to: [0.0; 2],
+    };
+    vec![tilt, back]
 }
 
 /// A random knock at `t0`: 0.05-0.5 g (log-uniform) ringing at 20-60 Hz for 1-3 periods,
