@@ -119,6 +119,35 @@
 //!   on under the hold's tests (a zero from mid-stroke ran a tilt's held zigzag 88 mm off
 //!   its legs' 35). A stroke a shadow carries arrives at once when the shadow wins, after
 //!   the hand stopped.
+//! - **The tilt undone**: while a shadow runs, the last three short sub-windows steady
+//!   (as a level's, the disturbance allowed for), significant off the shadow's level on X
+//!   or Y but not off the motion's own zeros: the pad was let go, or the hand rocked the
+//!   device on its base and back. The held motion carries the rock's runaway and the
+//!   velocity its pulse gave, against zeros the device is back at; the shadow, from a
+//!   level the device has left, can never come to rest. Either one would wait for the
+//!   timeout, and a stroke begun meanwhile was lost (the twentieth tester's rocks: 11 of 16
+//!   strokes 1 s after). An **undone shadow** replaces it: from rest, against the motion's
+//!   zeros, waiting from the replaced shadow's start. Sharing the held motion's zeros, its
+//!   quiet test is the held motion's; their velocities tell them apart. At rest with its
+//!   velocity explained, it begins again from rest at each block's end (a zero-velocity
+//!   update: begun once, the noise its velocity integrated at rest ran into strokes 1-2 s
+//!   later, 6-15 mm). The held motion at rest with its velocity explained was a hand's after
+//!   all (a drag whose steady push was held as a tilt, its glide at the zeros, now ended):
+//!   it stops and is delivered. The undone shadow at rest, its velocity explained, having
+//!   gone both ways since it last began again (a stroke from rest, ended) wins: its motion
+//!   is delivered, the rock's dropped. Nothing since for the longest stroke: the held
+//!   motion is dropped, the zeros kept, and a motion soon after is wary as after any tilt
+//!   (if the held motion was a drag gliding longer than that, its ramp down is unreversed
+//!   and dropped, not run back: the drag is lost, as before, since no statistic tells its
+//!   glide from a rock's rest until that ramp down). Still moving then, it waits for that
+//!   motion's end for the longest stroke more. The tilt's runs start again with it: one-sided
+//!   against the zeros for long enough to confirm a tilt, the device was passing through
+//!   them (a pad tilting back past the level it had settled at), and the tilt is confirmed
+//!   as any. A stroke in the wait arrives at its end, not as it moves. Where a slow stroke's
+//!   crossing lies within the noise of the zeros for 0.3 s (20 mm over 1.56 s at 300
+//!   ug/sqrt(Hz)) it reads as undone too; its second lobe, one-sided, leaves the undone
+//!   shadow unable to win and the held stroke ends as before, but a knock in it went both
+//!   ways and the shadow won mid-stroke (one knocky stroke of 4200, 34 mm off).
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
 //!   stroke is that long. Unless a horizontal axis was significant with both signs within
 //!   that time (at either scale): a tilt leaks gravity along one fixed horizontal direction,
@@ -227,6 +256,9 @@ enum Origin {
     Change,
     /// At a tilt's confirmation: something changed after the latest steady level; certain.
     Confirmed,
+    /// The tilt undone: the device steady back at the motion's own zeros, off the shadow's
+    /// level (see the module docs).
+    Undone,
 }
 
 impl Tilt {
@@ -624,6 +656,13 @@ impl Detector {
         }
     }
 
+    /// Whether the device is steady back at the motion's zeros `bias` (the last three short
+    /// sub-windows agree, and are significant off the shadow's `level` on X or Y but not off
+    /// `bias`): the tilt the shadow was begun for was undone.
+    fn undone(&self, s: &DriftSettings, bias: [i64; 3], level: [i64; 3]) -> bool {
+        self.steady_stretch(s, level, 1).is_some() && self.steady_stretch(s, bias, 1).is_none()
+    }
+
     /// At a release: the level of the three short sub-windows before the last (Q16 counts,
     /// every axis), if it is significant on X or Y.
     fn level_before_change(&self, s: &DriftSettings, bias: [i64; 3]) -> Option<[i64; 3]> {
@@ -664,11 +703,28 @@ impl Detector {
         explained: bool,
     ) -> Option<Action> {
         let (level, n, since, certain) = self.tilt.shadow?;
+        // The tilt undone: the pad let go, or the device rocked back onto its base. The
+        // shadow it replaces waited from its own start; the undone one waits as long. The
+        // runs start again: a tilt from here is a new one.
+        if self.stream.block_closed() && self.undone(s, bias, level) {
+            let undone = self.begin_shadow(s, bias, bias, 0, Origin::Undone);
+            if let Some(sh) = &mut self.tilt.shadow {
+                sh.2 = since;
+            }
+            self.tilt.run = Default::default();
+            return Some(undone);
+        }
         let nb = 3 * u64::from(s.sub_blocks[0]) * u64::from(s.block) * u64::from(s.tick);
-        let shadow_quiet = self.quiet(s, level);
         if !self.tilt.shadow_moved {
             self.tilt.shadow_moved = !self.velocity_explained(s, w, n, nb);
         }
+        // An undone shadow's level is the motion's own zeros (any other's is significantly
+        // off them).
+        if level == bias {
+            let age = self.stream.ticks() - since;
+            return self.undone_decision(s, (bias, w, n), age, quiet, explained);
+        }
+        let shadow_quiet = self.quiet(s, level);
         // Within the longest stroke: a hand at rest after either hypothesis is not yet told
         // from the other (each may still have a lobe to come). Waiting on for as long as both
         // stay quiet held a stroke found in its second lobe for 13.8 s while its wrong start
@@ -740,6 +796,77 @@ impl Detector {
         // delivered).
         self.tilt.held = false;
         None
+    }
+
+    /// An undone shadow's decision (see the module docs): its zeros `bias` (the motion's),
+    /// its velocities `w` over `n` samples, `age` ticks since the shadow it replaced began.
+    /// It and the held motion share their zeros, so their quiet tests are one (`quiet`), and
+    /// only their velocities tell them apart (the held motion's: `explained`).
+    fn undone_decision(
+        &mut self,
+        s: &DriftSettings,
+        (bias, w, n): ([i64; 3], [i64; 3], u64),
+        age: u64,
+        quiet: bool,
+        explained: bool,
+    ) -> Option<Action> {
+        let longest = u64::from(s.land_timeout);
+        // One-sided against the zeros for longer than a hand's lobe: the device was passing
+        // through them, a tilt still under way (a pad tilting back past the level it had
+        // settled at). Confirmed as any tilt (waited on, the return of a 4.9 degree tilt
+        // over 1.7 s held everything until twice the longest stroke, and a stroke then
+        // begun was found again from rest mid-way, 367 mm off).
+        if self.stream.block_closed() {
+            if let Some(scale) = self.confirmed_scale(s) {
+                self.tilt.shadow = None;
+                return Some(self.confirm(s, bias, scale));
+            }
+        }
+        // The held motion at rest on its own: it was a hand's after all (a drag's glide,
+        // its ramp held, now ended); the caller's stop delivers it.
+        if quiet && explained {
+            return None;
+        }
+        if quiet && self.velocity_explained(s, w, n, self.bias_samples) {
+            let signs = self.tilt.shadow_signs;
+            let both = signs & 0b11 == 0b11 || signs & 0b1100 == 0b1100;
+            // A stroke from rest (it went both ways since the shadow last began again at
+            // rest), ended: the shadow's motion, the tilt's runaway dropped.
+            if both {
+                self.enter_still();
+                return Some(Action::Adopt);
+            }
+            // Nothing since, for the longest stroke: the held motion is dropped, the zeros
+            // kept. A motion soon after is wary, as after any tilt's zero: if the held motion
+            // was a drag's glide (its ramp held), the ramp down to come is unreversed and
+            // dropped (not wary, it ran the cursor back 9.1 mm).
+            if age >= longest {
+                self.enter_still();
+                self.tilted(s);
+                return Some(Action::Discard);
+            }
+            // At rest: the shadow begins again from rest at each block's end (a zero-velocity
+            // update), so that what the noise gave its velocity at rest does not run on
+            // through a stroke to come (begun once, 3 mm/s from its first 0.3 s carried 6-15
+            // mm into strokes 1-2 s later; begun again only until its velocity first stood
+            // out, which the noise does within tens of ticks, 5 mm 2 s later).
+            if self.stream.block_closed() {
+                let again = self.begin_shadow(s, bias, bias, 0, Origin::Undone);
+                if let Some(sh) = &mut self.tilt.shadow {
+                    sh.2 -= age;
+                }
+                return Some(again);
+            }
+        }
+        // Moving, or a motion begun within the longest stroke not yet ended: it ends within
+        // the longest stroke more (ended at the wait's end, a stroke under way was found again
+        // from rest mid-stroke and glided 129-163 mm). Past that, nothing held is delivered,
+        // and a hand still moving (no stroke lasts that long) is found again from rest.
+        if age >= 2 * longest {
+            self.enter_still();
+            return Some(Action::Discard);
+        }
+        Some(Action::None)
     }
 
     /// At rest: learn the noise and follow the zero from the tick [`REPLAY`] ticks old, once
