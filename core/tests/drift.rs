@@ -1325,7 +1325,8 @@ fn a_stroke_after_a_rock_arrives() {
     // 30 ms), one after it at its reversal (wary after a tilt: half the stroke and a short
     // sub-window).
     // Controls: without the undone shadow the strokes at 0.3 and 1.0 s were lost (40.0 mm
-    // off); begun once and not again at rest, the noise it integrated at rest ran on (2.20
+    // off; both axes asked to go both ways, the stroke along X alone was lost); begun once
+    // and not again at rest, the noise it integrated at rest ran on (2.20
     // mm off at 1.0 s, 2.03 allowed); ended at the wait's end while moving, the strokes at
     // 1.6 s were found again from rest mid-stroke and glided 129-163 mm; not dropped at rest
     // before twice the longest stroke, or waiting from its own start rather than the
@@ -1343,7 +1344,9 @@ fn a_stroke_after_a_rock_arrives() {
         dur: 0.75,
         dir: 60.0,
     };
-    let scenes = [0.3f64, 1.0, 1.6, 2.0].map(|gap| RockThenStroke { gap, ..ROCK });
+    // (The first along X alone: one axis's two lobes are a stroke's.)
+    let scenes = [(0.3f64, 0.0), (1.0, 150.0), (1.6, 150.0), (2.0, 150.0)]
+        .map(|(gap, dir)| RockThenStroke { gap, dir, ..ROCK });
     for (k, scene) in scenes.iter().chain([&steep]).enumerate() {
         let (dur, gap, allowed) = (scene.dur, scene.gap, scene.allowed());
         let by = if gap < 2.0 {
