@@ -1409,6 +1409,64 @@ fn a_slow_rock_back_past_the_level_it_settled_at_is_a_tilt() {
 }
 
 #[test]
+fn a_stroke_after_presses_arrives() {
+    // A new user's presses (`press_17`): the pad pressed 1.79 degrees at 17 degrees (down
+    // over 0.11 s, held 0.2 s, up over 0.13 s), then 1.42 s later 0.90 degrees (0.28 s,
+    // 0.03 s, 0.21 s), and a 63.7 mm stroke over 0.40 s at 79.5 degrees 1 s after the last.
+    // The first press's undone shadow takes the second press's pulse into its velocity,
+    // which no acceleration changes after it: calm for a glide's fade wait past the longest
+    // stroke, nothing is under way and it is dropped, and the stroke after it, wary, arrives.
+    // 8 noise draws, target 3: within max(5 %, 3 bias floors), T_rest the 1 s gap. Control:
+    // waited on to twice the longest stroke, the stroke was held and lost (63.7 mm off).
+    let lsb = Config::default().m_s2_per_lsb;
+    let presses = [
+        (1.5, 1.79, 0.114, 0.203, 0.128),
+        (2.922, 0.90, 0.276, 0.025, 0.205),
+    ];
+    let stroke = RockThenStroke {
+        deg: 0.0,
+        az: 17.0,
+        down: 0.0,
+        hold: 0.0,
+        back: 0.0,
+        gap: 1.0,
+        d: 0.0637,
+        dur: 0.4,
+        dir: 79.5,
+    };
+    let (s0, dir) = (4.428, stroke.dir.to_radians());
+    for seed in 0..8 {
+        let (mut n, mut t) = noisy_calibrated(seed, 2);
+        let mut cursor = Cursor::default();
+        for i in 0..((s0 + stroke.dur + 2.0) * 3000.0) as usize {
+            let time = i as f64 / 3000.0;
+            let deg: f64 = presses
+                .iter()
+                .map(|&(t0, deg, down, hold, back)| {
+                    deg * (ramp((time - t0) / down) - ramp((time - t0 - down - hold) / back))
+                })
+                .sum();
+            let g = gravity(tilt_deg(deg, stroke.az));
+            let a =
+                stroke.d / (stroke.dur * stroke.dur) * step_accel((time - s0) / stroke.dur) / lsb;
+            t.feed(&[[
+                noisy_code(&mut n, 2048.0 + a * dir.cos() + g[0] / lsb, 2),
+                noisy_code(&mut n, 2048.0 + a * dir.sin() + g[1] / lsb, 2),
+                noisy_code(&mut n, 2048.0 + g[2] / lsb, 2),
+            ]]);
+            cursor.poll(&mut t, i, time < s0);
+        }
+        let (_, error) = cursor.judge(stroke.d, dir);
+        let allowed = stroke.allowed();
+        assert!(
+            error <= allowed,
+            "draw {seed}: {error:.2} mm off, allowed {allowed:.2}"
+        );
+        assert!(t.is_still(), "draw {seed}");
+    }
+}
+
+#[test]
 fn a_drag_whose_ramp_is_held_arrives_at_its_ramp_down() {
     // A drag whose ramp up is a steady push (0.08-0.15 m/s^2 for 0.4-0.6 s) is held as a
     // tilt would be; its glide, at the zero, reads as the tilt undone, and the undone

@@ -608,6 +608,14 @@ impl Detector {
     /// last), if they lie within the motion, agree on every axis and are significant on X or
     /// Y.
     fn steady_stretch(&self, s: &DriftSettings, bias: [i64; 3], j: u32) -> Option<[i64; 3]> {
+        self.stretch(s, bias, j)
+            .and_then(|(level, significant)| significant.then_some(level))
+    }
+
+    /// The level (Q16 counts) of short sub-windows `j, j + 1, j + 2` back (`j >= 1`) and
+    /// whether it is significant off `bias` on X or Y, if they lie within the motion and
+    /// agree on every axis.
+    fn stretch(&self, s: &DriftSettings, bias: [i64; 3], j: u32) -> Option<([i64; 3], bool)> {
         let m = s.sub_blocks[0];
         let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
         if self.motion.samples < u64::from(j + 2) * n {
@@ -638,7 +646,7 @@ impl Detector {
             }
             level[a] = *b + crate::math::div_round(sum, 3 * n as i64);
         }
-        significant.then_some(level)
+        Some((level, significant))
     }
 
     /// A tilt's new zero was just taken: the lift test waits for its window, and a motion
@@ -660,7 +668,14 @@ impl Detector {
     /// sub-windows agree, and are significant off the shadow's `level` on X or Y but not off
     /// `bias`): the tilt the shadow was begun for was undone.
     fn undone(&self, s: &DriftSettings, bias: [i64; 3], level: [i64; 3]) -> bool {
-        self.steady_stretch(s, level, 1).is_some() && self.steady_stretch(s, bias, 1).is_none()
+        self.steady_stretch(s, level, 1).is_some() && self.at_rest_on(s, bias)
+    }
+
+    /// Whether the last three short sub-windows agree and are not significant off `bias` on
+    /// X or Y: the device rests on those zeros.
+    fn at_rest_on(&self, s: &DriftSettings, bias: [i64; 3]) -> bool {
+        self.stretch(s, bias, 1)
+            .is_some_and(|(_, significant)| !significant)
     }
 
     /// At a release: the level of the three short sub-windows before the last (Q16 counts,
@@ -830,36 +845,42 @@ impl Detector {
         if quiet && explained {
             return None;
         }
-        if quiet && self.velocity_explained(s, w, n, self.bias_samples) {
-            let signs = self.tilt.shadow_signs;
-            let both = signs & 0b11 == 0b11 || signs & 0b1100 == 0b1100;
-            // A stroke from rest (it went both ways since the shadow last began again at
-            // rest), ended: the shadow's motion, the tilt's runaway dropped.
-            if both {
-                self.enter_still();
-                return Some(Action::Adopt);
+        let rests = quiet && self.velocity_explained(s, w, n, self.bias_samples);
+        let signs = self.tilt.shadow_signs;
+        // A stroke from rest (it went both ways since the shadow last began again at rest),
+        // ended: the shadow's motion, the tilt's runaway dropped.
+        if rests && (signs & 0b11 == 0b11 || signs & 0b1100 == 0b1100) {
+            self.enter_still();
+            return Some(Action::Adopt);
+        }
+        // Nothing under way past the longest stroke: the device rests on the zeros (three
+        // short sub-windows agree and none is significant), the shadow at rest too or its
+        // velocity what presses or rocks since left it, which no acceleration changes now.
+        // The held motion is dropped, the zeros kept. A motion soon after is wary, as after
+        // any tilt's zero: if the held motion was a drag's glide (its ramp held), the ramp
+        // down to come is unreversed and dropped (not wary, it ran the cursor back 9.1 mm).
+        // (Waiting on at rest on the zeros, presses 1-2 s before a stroke held it to twice
+        // the longest stroke and lost it, 4 of a tester's 24, or ended mid-way and ran the
+        // cursor 0.6 m; judged calm on the quiet test's 20 ms windows instead, a slow
+        // stroke's lobe of 0.07 m/s^2 passed for rest and was dropped mid-way, 4 of the lab's
+        // 4200 after-tilt.)
+        let closed = self.stream.block_closed();
+        if age >= longest && closed && self.at_rest_on(s, bias) {
+            self.enter_still();
+            self.tilted(s);
+            return Some(Action::Discard);
+        }
+        // At rest: the shadow begins again from rest at each block's end (a zero-velocity
+        // update), so that what the noise gave its velocity at rest does not run on through a
+        // stroke to come (begun once, 3 mm/s from its first 0.3 s carried 6-15 mm into
+        // strokes 1-2 s later; begun again only until its velocity first stood out, which the
+        // noise does within tens of ticks, 5 mm 2 s later).
+        if rests && closed {
+            let again = self.begin_shadow(s, bias, bias, 0, Origin::Undone);
+            if let Some(sh) = &mut self.tilt.shadow {
+                sh.2 -= age;
             }
-            // Nothing since, for the longest stroke: the held motion is dropped, the zeros
-            // kept. A motion soon after is wary, as after any tilt's zero: if the held motion
-            // was a drag's glide (its ramp held), the ramp down to come is unreversed and
-            // dropped (not wary, it ran the cursor back 9.1 mm).
-            if age >= longest {
-                self.enter_still();
-                self.tilted(s);
-                return Some(Action::Discard);
-            }
-            // At rest: the shadow begins again from rest at each block's end (a zero-velocity
-            // update), so that what the noise gave its velocity at rest does not run on
-            // through a stroke to come (begun once, 3 mm/s from its first 0.3 s carried 6-15
-            // mm into strokes 1-2 s later; begun again only until its velocity first stood
-            // out, which the noise does within tens of ticks, 5 mm 2 s later).
-            if self.stream.block_closed() {
-                let again = self.begin_shadow(s, bias, bias, 0, Origin::Undone);
-                if let Some(sh) = &mut self.tilt.shadow {
-                    sh.2 -= age;
-                }
-                return Some(again);
-            }
+            return Some(again);
         }
         // Moving, or a motion begun within the longest stroke not yet ended: it ends within
         // the longest stroke more (ended at the wait's end, a stroke under way was found again
