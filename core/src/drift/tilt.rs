@@ -135,7 +135,9 @@
 //!   all (a drag whose steady push was held as a tilt, its glide at the zeros, now ended):
 //!   it stops and is delivered. The undone shadow at rest, its velocity explained, having
 //!   gone both ways since it last began again (a stroke from rest, ended) wins: its motion
-//!   is delivered, the rock's dropped. Nothing since for the longest stroke: the held
+//!   is delivered, the rock's dropped. Nothing under way past the longest stroke (the
+//!   device resting on the zeros: three short sub-windows agree and none is significant,
+//!   whatever the undone shadow's velocity holds, as presses since leave it): the held
 //!   motion is dropped, the zeros kept, and a motion soon after is wary as after any tilt
 //!   (if the held motion was a drag gliding longer than that, its ramp down is unreversed
 //!   and dropped, not run back: the drag is lost, as before, since no statistic tells its
@@ -147,7 +149,9 @@
 //!   crossing lies within the noise of the zeros for 0.3 s (20 mm over 1.56 s at 300
 //!   ug/sqrt(Hz)) it reads as undone too; its second lobe, one-sided, leaves the undone
 //!   shadow unable to win and the held stroke ends as before, but a knock in it went both
-//!   ways and the shadow won mid-stroke (one knocky stroke of 4200, 34 mm off).
+//!   ways and the shadow won mid-stroke (one knocky stroke of 4200, 34 mm off); and at the
+//!   wait's end such a crossing reads as rest on the zeros, and the stroke is dropped
+//!   mid-way (5 after-tilt strokes of 4200).
 //! - **Tilt**: an axis one-sided for more than `T_max / 2` at a scale: no lobe of a hand's
 //!   stroke is that long. Unless a horizontal axis was significant with both signs within
 //!   that time (at either scale): a tilt leaks gravity along one fixed horizontal direction,
