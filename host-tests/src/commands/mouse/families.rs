@@ -362,11 +362,16 @@ pub enum Kind {
     VibrationAll,
     /// Target 5: a minute at rest during a machine's vibration.
     VibrationRest,
+    /// Target 3: the pad pressed and let go, or the device rocked on its base and back,
+    /// 0.5-5 degrees over 0.1-1 s each way, held 0-0.5 s between.
+    Rocks,
 }
 
 impl Kind {
     /// Every family run on the board's sensor at its default rate.
-    pub const ALL: [Kind; 10] = [
+    /// (Rocks last: a family's random stream is drawn from its place here, and the others'
+    /// are as they were before it.)
+    pub const ALL: [Kind; 11] = [
         Kind::Strokes,
         Kind::Drags,
         Kind::Lifts,
@@ -377,6 +382,7 @@ impl Kind {
         Kind::VibrationZ,
         Kind::VibrationAll,
         Kind::VibrationRest,
+        Kind::Rocks,
     ];
 
     /// Its name in tables and on the command line.
@@ -392,6 +398,7 @@ impl Kind {
             Kind::VibrationZ => "vibration-z",
             Kind::VibrationAll => "vibration-all",
             Kind::VibrationRest => "vibration-rest",
+            Kind::Rocks => "rocks",
         }
     }
 
@@ -400,7 +407,7 @@ impl Kind {
         match self {
             Kind::Strokes => "1",
             Kind::Drags => "2",
-            Kind::Lifts | Kind::PadTilts | Kind::AfterTilt => "3",
+            Kind::Lifts | Kind::PadTilts | Kind::AfterTilt | Kind::Rocks => "3",
             Kind::Knocks | Kind::KnockyStrokes => "4",
             Kind::VibrationZ | Kind::VibrationAll | Kind::VibrationRest => "5",
         }
@@ -527,6 +534,30 @@ impl Kind {
                         motions: vec![m],
                     },
                     check: Check::Tilt { rest: m.end() },
+                }
+            }
+            Kind::Rocks => {
+                let deg = uniform(rng, 0.5, 5.0);
+                let to = tilt_of(rng, deg);
+                let down = Motion::Tilt {
+                    t0: LEAD_S,
+                    dur: uniform(rng, 0.1, 1.0),
+                    from: [0.0; 2],
+                    to,
+                };
+                let back = Motion::Tilt {
+                    t0: down.end() + uniform(rng, 0.0, 0.5),
+                    dur: uniform(rng, 0.1, 1.0),
+                    from: to,
+                    to: [0.0; 2],
+                };
+                Case {
+                    scenario: Scenario {
+                        seconds: back.end() + 2.5,
+                        edges: vec![],
+                        motions: vec![down, back],
+                    },
+                    check: Check::Tilt { rest: back.end() },
                 }
             }
             Kind::AfterTilt => {
@@ -772,7 +803,7 @@ fn summarise(kind: Kind, trials: &[Trial], cpi: f64, spec: &SensorSpec) -> Famil
             f.pass = f.error_mm.max <= 5.0;
             f.asks = "<= 5 mm per re-placement".into();
         }
-        Kind::PadTilts => {
+        Kind::PadTilts | Kind::Rocks => {
             let late: f64 = trials.iter().map(|r| r.third).sum();
             f.extra.push(("stop_s_median".into(), second.median));
             f.extra.push(("stop_s_max".into(), second.max));
