@@ -93,6 +93,27 @@
 //!   their runs broke by noise, with the velocity its start had missed: a circle held as it
 //!   turned slowly (10 mm, 1.5 turns in 4 s at 520 ug/sqrt(Hz)) ended 78 to 359 mm off in 6
 //!   of 8 noise draws.
+//! - **A release at the zeros**: released, the level before the change not significant:
+//!   the acceleration came back to the zeros the motion began on, as a rock's return does
+//!   (the device tipped on its base or the pad pressed, and back), or as a slow stroke's
+//!   does near its crossing. The velocity the held lobe gave is still in the motion, and only
+//!   what comes next tells a stroke (a second lobe takes it back) from a rock (nothing
+//!   does). So the hold goes on until the device rests on those zeros (the last three short
+//!   sub-windows agree, none significant), and there an undone shadow begins from rest
+//!   (below): the held motion is delivered if it comes to rest with its velocity explained,
+//!   and dropped past the longest stroke at rest on the zeros; a stroke begun meanwhile is
+//!   the shadow's. Released and delivered, a rock whose return was slow glided on its pulse's
+//!   velocity (0.1-0.4 m/s) until the longest calm: a 3 degree rock, 0.3 s down and 0.5 s
+//!   back, 1.3 m; the lab's rocks, 101 of 4200 over 100 mm, up to 2.0 m. Delivered when
+//!   the runs broke before the device rested (a 5 degree rock's, 0.55 s back), one still
+//!   glided 1.1 m. The undone shadow begins only at rest: begun at a release mid-stroke (a
+//!   stroke begun as a tilt's remainder was held, its reversal the release) it missed the
+//!   stroke's first 8 ms, never came to rest, and the stroke was lost (143.8 mm). A motion
+//!   younger than four short sub-windows has no level before its change and is delivered:
+//!   a rock within about 0.4 s is one lobe as short as a drag's push (never held, or
+//!   released that young), and glides as a drag would until the longest calm (the lab's
+//!   rocks, 16 of 4200 over 100 mm, up to 556 mm); the sensor cannot tell it from a drag
+//!   before the drag's ramp down, which may come 4 s later.
 //! - **A change while held**: held, the three short sub-windows before the last steady
 //!   and significant (a level), and the last not steady with them. Either the pad settled
 //!   and a hand moved it (the stroke would otherwise be dropped with the tilt's runaway
@@ -503,8 +524,20 @@ impl Detector {
             return Action::None; // held until an end decides
         }
         if self.tilt.held && !held {
-            if let Some(level) = self.level_before_change(s, bias) {
-                return self.begin_shadow(s, level, bias, 1, Origin::Release);
+            match self.level_before_change(s, bias) {
+                Some((level, true)) => {
+                    return self.begin_shadow(s, level, bias, 1, Origin::Release)
+                }
+                // Back at the zeros the motion began on: a rock's return or a slow stroke's
+                // crossing. Held on until the device rests there, then an undone shadow (see
+                // the module docs).
+                Some((_, false)) => {
+                    if self.at_rest_on(s, bias) {
+                        return self.begin_shadow(s, bias, bias, 0, Origin::Undone);
+                    }
+                    return Action::None;
+                }
+                None => {}
             }
         }
         // Held, steady at a significant level, and changed in the last sub-window: a hand
@@ -684,7 +717,7 @@ impl Detector {
 
     /// At a release: the level of the three short sub-windows before the last (Q16 counts,
     /// every axis), if it is significant on X or Y.
-    fn level_before_change(&self, s: &DriftSettings, bias: [i64; 3]) -> Option<[i64; 3]> {
+    fn level_before_change(&self, s: &DriftSettings, bias: [i64; 3]) -> Option<([i64; 3], bool)> {
         let m = s.sub_blocks[0];
         let n = u64::from(m) * u64::from(s.block) * u64::from(s.tick);
         if 4 * m as usize >= super::BLOCKS || self.motion.samples < 4 * n {
@@ -705,7 +738,7 @@ impl Detector {
             }
             level[a] = *b + crate::math::div_round(sum, 3 * n as i64);
         }
-        significant.then_some(level)
+        Some((level, significant))
     }
 
     /// While a shadow runs: which end has come (`quiet` and `explained` are the motion's own
