@@ -947,6 +947,9 @@ pub struct Detector {
     pub(crate) tilted_until: u64,
     /// The tick the last motion that was not discarded ended (or the last new zero).
     pub(crate) real_end: u64,
+    /// The zeros from before the tilts taken since, less the present ones [Q16 counts, each
+    /// within `i32`]; all 0 when none, or since a lift ([`tilt`], "The tilt let go").
+    pub(crate) untilt: [i32; 3],
 }
 
 impl Detector {
@@ -974,6 +977,7 @@ impl Detector {
             bias_samples: u64::from(cal[0].samples),
             tilted_until: 0,
             real_end: 0,
+            untilt: [0; 3],
         };
         if let Some(l) = s.lift {
             d.lift.refill(&l, &d.stream);
@@ -1100,6 +1104,7 @@ impl Detector {
         let action = if matches!(self.state, State::Still | State::Moving) && self.lifted(s, bias) {
             let held = self.holds();
             self.enter(State::Lifted);
+            self.untilt = [0; 3];
             if held {
                 Action::Discard
             } else {
