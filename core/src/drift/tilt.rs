@@ -733,7 +733,7 @@ impl Detector {
             return None;
         }
         let before: [i64; 3] = core::array::from_fn(|a| bias[a] + i64::from(self.untilt[a]));
-        if !(self.at_rest_on(s, before) && self.steady_stretch(s, bias, 1).is_some()) {
+        if !self.undone(s, before, bias) {
             return None;
         }
         self.tilt.shadow = None;
@@ -760,9 +760,10 @@ impl Detector {
         }
     }
 
-    /// Whether the device is steady back at the motion's zeros `bias` (the last three short
-    /// sub-windows agree, and are significant off the shadow's `level` on X or Y but not off
-    /// `bias`): the tilt the shadow was begun for was undone.
+    /// Whether the device is steady back at the zeros `bias` (the last three short
+    /// sub-windows agree, and are significant off `level` on X or Y but not off `bias`): a
+    /// tilt from `bias` to `level` was undone (a shadow's, from the motion's zeros to the
+    /// shadow's level; or the tilts taken since the zeros before them, [`Self::tilt_let_go`]).
     fn undone(&self, s: &DriftSettings, bias: [i64; 3], level: [i64; 3]) -> bool {
         self.steady_stretch(s, level, 1).is_some() && self.at_rest_on(s, bias)
     }
@@ -1007,13 +1008,14 @@ impl Detector {
         self.bias_samples = (self.bias_samples + u64::from(s.tick)).min(max);
         let w = self.bias_samples as i64; // <= 1e6 s * 1e5 Hz < 2^37
         let mut out = bias;
+        // The zeros from before a tilt, if kept, stay where they were.
+        let untilted = self.untilt != [0; 3];
         for (a, (b, &c)) in out.iter_mut().zip(&old).enumerate() {
             // A tick's offset: below 2^41 in Q16 LSB samples.
             let d = (i64::from(c) << 16) - i64::from(s.tick) * *b;
             let step = crate::math::div_round(d, w);
             *b += step;
-            // The zeros from before a tilt stay where they were.
-            if self.untilt != [0; 3] {
+            if untilted {
                 self.untilt[a] = narrow(i64::from(self.untilt[a]) - step);
             }
         }
