@@ -365,13 +365,17 @@ pub enum Kind {
     /// Target 3: the pad pressed and let go, or the device rocked on its base and back,
     /// 0.5-5 degrees over 0.1-1 s each way, held 0-0.5 s between.
     Rocks,
+    /// Target 1: strokes of the slower half of its durations, 1-2 s (uniform), 5 mm-30 cm
+    /// (log-uniform). The strokes family's log-uniform durations give that half a third of
+    /// its trials; a hand that takes its time makes more of them.
+    SlowStrokes,
 }
 
 impl Kind {
     /// Every family run on the board's sensor at its default rate.
-    /// (Rocks last: a family's random stream is drawn from its place here, and the others'
-    /// are as they were before it.)
-    pub const ALL: [Kind; 11] = [
+    /// (Rocks and slow strokes last, in the order they were added: a family's random
+    /// stream is drawn from its place here, and the others' are as they were before them.)
+    pub const ALL: [Kind; 12] = [
         Kind::Strokes,
         Kind::Drags,
         Kind::Lifts,
@@ -383,6 +387,7 @@ impl Kind {
         Kind::VibrationAll,
         Kind::VibrationRest,
         Kind::Rocks,
+        Kind::SlowStrokes,
     ];
 
     /// Its name in tables and on the command line.
@@ -399,13 +404,14 @@ impl Kind {
             Kind::VibrationAll => "vibration-all",
             Kind::VibrationRest => "vibration-rest",
             Kind::Rocks => "rocks",
+            Kind::SlowStrokes => "slow-strokes",
         }
     }
 
     /// The target it checks (numbered as in docs/drift-control.md).
     pub const fn target(self) -> &'static str {
         match self {
-            Kind::Strokes => "1",
+            Kind::Strokes | Kind::SlowStrokes => "1",
             Kind::Drags => "2",
             Kind::Lifts | Kind::PadTilts | Kind::AfterTilt | Kind::Rocks => "3",
             Kind::Knocks | Kind::KnockyStrokes => "4",
@@ -470,6 +476,15 @@ impl Kind {
         match self {
             Kind::Strokes => {
                 let m = stroke(rng, LEAD_S);
+                stroke_case(vec![], m, None)
+            }
+            Kind::SlowStrokes => {
+                let m = Motion::Stroke {
+                    dur: uniform(rng, 1.0, 2.0),
+                    d: log_uniform(rng, 0.005, 0.3),
+                    dir: uniform(rng, 0.0, std::f64::consts::TAU),
+                    t0: LEAD_S,
+                };
                 stroke_case(vec![], m, None)
             }
             Kind::Drags => {
@@ -776,6 +791,7 @@ fn summarise(kind: Kind, trials: &[Trial], cpi: f64, spec: &SensorSpec) -> Famil
     };
     match kind {
         Kind::Strokes
+        | Kind::SlowStrokes
         | Kind::AfterTilt
         | Kind::KnockyStrokes
         | Kind::VibrationZ
@@ -1401,7 +1417,7 @@ fn knobs() -> Vec<Knob> {
 /// The families the sensitivity table scores (every one of the board's but the minute of
 /// vibration at rest), and each family's score: the fraction within for the stroke families,
 /// the target's own figure for the others.
-const SCORED: [Kind; 9] = [
+const SCORED: [Kind; 11] = [
     Kind::Strokes,
     Kind::Drags,
     Kind::Lifts,
@@ -1411,14 +1427,19 @@ const SCORED: [Kind; 9] = [
     Kind::KnockyStrokes,
     Kind::VibrationZ,
     Kind::VibrationAll,
+    Kind::Rocks,
+    Kind::SlowStrokes,
 ];
 
 /// A family's score for the sensitivity table: `within` [%] for the stroke families and
-/// drags, the largest re-placement [mm] for lifts, the median [mm] for pad tilts and knocks.
+/// drags, the largest re-placement [mm] for lifts, the median [mm] for pad tilts and knocks,
+/// and for rocks the number of trials that moved the cursor later than the target's 0.5 s
+/// after the return (what the family misses: "nothing later").
 fn score(f: &Family) -> f64 {
     match f.name.as_str() {
         "lifts" => f.error_mm.max,
         "pad-tilts" | "knocks" => f.error_mm.median,
+        "rocks" => f.results.iter().filter(|r| r.third > 0.0).count() as f64,
         _ => f.within * 100.0,
     }
 }
@@ -1496,5 +1517,5 @@ pub fn sensitivity_table(r: &[Sensitivity]) -> String {
         }
         out += "\n";
     }
-    out + "scores: within [%] (strokes, drags, after-tilt, knocky-strokes, vibration), largest re-placement [mm] (lifts), median [mm] (pad-tilts, knocks); -: invalid at that value\n"
+    out + "scores: within [%] (strokes, drags, after-tilt, knocky-strokes, vibration, slow strokes), largest re-placement [mm] (lifts), median [mm] (pad-tilts, knocks), trials that moved later than 0.5 s after the return (rocks); -: invalid at that value\n"
 }
