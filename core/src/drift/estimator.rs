@@ -125,6 +125,19 @@
 //! their target, 6 with the direction test). A faded glide's velocity is resumed by any
 //! motion: its ramp down, or the hand speeding up again.
 //!
+//! # A long stroke's deceleration
+//! A motion started as a long stroke's first lobe left the blocks ([`super::rest`]) begins
+//! where its run rose, not where the hand began: its velocity is short of the hand's by what
+//! the first lobe gave before, and near the noise floor its deceleration is within the quiet
+//! test (a 25 mm stroke over 2 s decelerates at 3.5 mg; a 20 ms mean's sd is 1.5 mg). Its
+//! velocity, short, was explained mid-way through the deceleration; the rest of it, found
+//! again from rest, ran the cursor back a few millimetres (20 mm over 2 s: 24 of 48 noise
+//! draws more than 2 mm). So such a motion does not stop while the tilt tests' long
+//! sub-window (400 ms, where that deceleration is several sd) is significant against its
+//! travel (its velocity before its first block's end): against the travel, not the
+//! velocity, which the deceleration takes through zero before the hand stops (10 of the 48
+//! still go back more than 2 mm, each by at most 7.3).
+//!
 //! # What sampling leaves
 //! A minimum-jerk stroke's acceleration starts and ends with a jerk step of `32 v / D^2`
 //! (`v` its peak velocity, `D` its duration). The samples' sum is the integral plus the
@@ -179,6 +192,9 @@ pub struct Motion {
     long_calm: u32,
     /// Started on a disturbed desk and not yet out of the disturbance's velocity.
     pub(crate) unproven: bool,
+    /// Started as a long stroke's first lobe left the blocks, its second lobe going on
+    /// ([`super::rest`]): it does not stop while that lobe decelerates it.
+    pub(crate) long: bool,
     /// The horizontal velocities (`W`) summed at each block's end since the onset, of the
     /// motion this one resumes too: the direction of its travel, for the bridge.
     travel: [i64; 2],
@@ -216,6 +232,7 @@ impl Motion {
         self.calm_run = 0;
         self.long_calm = 0;
         self.unproven = false;
+        self.long = false;
         if !resumes {
             self.travel = [0; 2];
             self.blocks = 0;
@@ -477,6 +494,24 @@ impl Detector {
         Some((l.w, l.samples + since * u64::from(s.tick)))
     }
 
+    /// Whether a long stroke's motion ([`Motion`]'s `long`) is still decelerating: on X or Y
+    /// the last long sub-window of the tilt tests is significant against its travel. A slow
+    /// stroke's deceleration is within the quiet test's 20 ms (a 25 mm stroke over 2 s
+    /// decelerates at 3.5 mg, a 20 ms mean's sd is 1.5 mg), not within the long sub-window's.
+    /// Against the travel, not the velocity: found late in its first lobe, the motion's
+    /// velocity is short of the hand's by what that lobe gave before, and its deceleration
+    /// takes it through zero before the hand stops.
+    /// (Before its first block's end it has no travel yet: its velocity `W` then.)
+    fn long_decelerating(&self, s: &DriftSettings, bias: [i64; 3], w: [i64; 3]) -> bool {
+        let t = self.motion.travel;
+        let d = if t == [0; 2] { [w[0], w[1]] } else { t };
+        self.motion.long
+            && (0..2).any(|a| {
+                let sign = self.sub_sign(s, (1, a, 0), bias[a], s.k2_q8);
+                sign != 0 && i64::from(sign) * d[a].signum() < 0
+            })
+    }
+
     /// Whether the horizontal acceleration since `onset` (the raw ticks since, at least the
     /// last, at most the tick ring's) points against the velocity `w`: `a . w < 0`.
     fn decelerates(&self, s: &DriftSettings, onset: u64, bias: [i64; 3], w: [i64; 2]) -> bool {
@@ -568,7 +603,7 @@ impl Detector {
         let reversed = quiet
             && self.motion.calm_run >= s.fade_ticks
             && self.backing([velocity[0], velocity[1]]);
-        if quiet && (explained || reversed) {
+        if quiet && (explained || reversed) && !self.long_decelerating(s, bias, velocity) {
             // A motion that ends younger than its hold was a jolt, not a stroke; one that
             // never stood out of the desk's disturbance was the disturbance; one soon after a
             // tilt that never reversed and outlasted the longest stroke glided on a velocity

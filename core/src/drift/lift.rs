@@ -586,7 +586,7 @@ impl Detector {
         self.landed(s, bias, zero);
         let back = u64::from(m / 3) * u64::from(s.block);
         let onset = self.stream.ticks() - back.min(self.stream.ticks());
-        match self.start(s, onset, false, false, zero) {
+        match self.start(s, onset, false, false, false, zero) {
             Action::Start { blocks, .. } => Action::Land { bias: zero, blocks },
             other => other,
         }

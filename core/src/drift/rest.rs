@@ -59,6 +59,23 @@
 //! of one sign make one run, glided 340 to 620 mm that way (the tests with their controls:
 //! `core/tests/drift.rs`).
 //!
+//! # A long stroke's last chance
+//! A stroke of 1.3 to 2 s whose lobes each stay under the slow alarm (a few floors: each
+//! lobe's mean near `kappa`, so its run hardly rises) has its pair's sum pass the alarm only
+//! after the first lobe's onset has left the blocks: it started nothing, and was lost whole
+//! (the lab's slow strokes, 1-2 s: 368 of 4200 on seeds 1-21, lengths up to 25 mm). So as
+//! the first lobe's onset is about to leave, a second run going on after a first lobe past
+//! `lobe_sd` starts the motion from that onset even short of the pair's alarm, **unproven**
+//! as on a shaking desk ([`super::estimator`]): nothing of it is delivered until its
+//! velocity stands out of what the velocity test explains (at once if it did at a replayed
+//! block's end), and it is discarded if it stops first. No new threshold: noise makes no
+//! such pair, a run on noise ends within a few ticks (its drift is `-kappa` sd a tick), and
+//! this one has lasted since its first lobe began, 1.26 s ago; what does make one (a tilt
+//! and its return, a drag's ramps) is judged by the tests of the motion it starts. The
+//! motion is marked long: its velocity is short of the hand's by what the first lobe gave
+//! before its run rose, and the stop test is held off while its deceleration goes on
+//! ([`super::estimator`]).
+//!
 //! # Thresholds from the false-start budget
 //! The eight CUSUMs (slow and fast, X and Y, both signs) and the slow ones' four two-lobe
 //! sums (below) share [`super::Drift::false_start_hours`] equally. On unit-variance Gaussian increments a
@@ -437,6 +454,7 @@ impl Detector {
         let mut alarm: Option<u64> = None;
         let mut step = false;
         let mut lone = false;
+        let mut leaving: Option<u64> = None;
         // The filter remembers L1 + L2 - 1 ticks: until it has forgotten the motion before
         // this rest, only the raw test runs.
         let band_ready = self.age() >= u64::from(s.band[0] + s.band[1] - 1);
@@ -496,12 +514,20 @@ impl Detector {
                             if before == 0 {
                                 r.take_lobe(s, a, side, sd);
                             }
-                            // The run's highest value, as at its end: a stroke's second
-                            // lobe may have peaked and be falling by then.
-                            let high = r.peak[0][a][side].max(net);
-                            pair = r
-                                .pair(s, a, side, high, sd, limit)
-                                .filter(|&on| t - on.saturating_sub(delay) == replay);
+                            // As the first lobe's onset is about to leave the blocks: the
+                            // pair with the run's highest value, as at its end (a stroke's
+                            // second lobe may have peaked and be falling by then); short of
+                            // its alarm, a long stroke's last chance to start from its onset,
+                            // unproven (see the module docs).
+                            let (on, first) = r.lobe[a][side];
+                            if t - on.saturating_sub(delay) == replay {
+                                let high = r.peak[0][a][side].max(net);
+                                pair = r.pair(s, a, side, high, sd, limit);
+                                if pair.is_none() && first != 0 {
+                                    let o = on.saturating_sub(delay);
+                                    leaving = Some(leaving.map_or(o, |l: u64| l.min(o)));
+                                }
+                            }
                         }
                         r.peak[c][a][side] = r.peak[c][a][side].max(net);
                     }
@@ -528,7 +554,12 @@ impl Detector {
         if let Some(onset) = alarm {
             let sd = [self.noise[0].sd_q16, self.noise[1].sd_q16];
             let onset = self.rest.first_lobe_across(s, onset, sd).max(self.entered);
-            return self.start(s, onset, step, lone, bias);
+            return self.start(s, onset, step, lone, false, bias);
+        }
+        if let Some(onset) = leaving {
+            let sd = [self.noise[0].sd_q16, self.noise[1].sd_q16];
+            let onset = self.rest.first_lobe_across(s, onset, sd).max(self.entered);
+            return self.start(s, onset, false, false, true, bias);
         }
         self.track_zero(s, bias)
     }
@@ -559,7 +590,9 @@ impl Detector {
                 }
             }
         }
-        alarm.map_or(Action::None, |onset| self.start(s, onset, step, lone, bias))
+        alarm.map_or(Action::None, |onset| {
+            self.start(s, onset, step, lone, false, bias)
+        })
     }
 
     /// Whether the velocity of a motion replayed from `blocks` complete blocks back, from
@@ -606,6 +639,7 @@ impl Detector {
         onset: u64,
         step: bool,
         lone: bool,
+        unproven: bool,
         bias: [i64; 3],
     ) -> Action {
         let done = self.stream.blocks();
@@ -637,7 +671,9 @@ impl Detector {
             latent.map_or(samples, |(_, since)| since.max(samples)),
             latent.is_some(),
         );
-        self.motion.unproven = disturbed && !self.replay_stood_out(s, blocks, shaking, bias);
+        self.motion.unproven =
+            (disturbed || unproven) && !self.replay_stood_out(s, blocks, shaking, bias);
+        self.motion.long = unproven;
         // The hold runs from the onset itself, not from the start of its block.
         let t = self.stream.ticks();
         let age = (t - onset.min(t)) * u64::from(s.tick) + u64::from(self.stream.partial());

@@ -363,7 +363,7 @@ impl Detector {
     /// The sub-window of `scale` ending `back` blocks ago (0: the last complete block) on
     /// `axis`: its sign if it is significantly off `bias` (see the module docs), 0 if not.
     /// `k2_q8`: the threshold's square [sd^2, Q8].
-    fn sub_sign(
+    pub(crate) fn sub_sign(
         &self,
         s: &DriftSettings,
         (scale, axis, back): (usize, usize, u32),
