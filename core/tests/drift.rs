@@ -2386,15 +2386,38 @@ fn stroke_outcome(
     let nd = (11.5 * k as f64).sqrt() * lsb / 1500f64.sqrt();
     let floor = nd * dur.powf(1.5) / 6f64.sqrt();
     let allowed = (0.05 * d).max(3.0 * floor) * 1000.0;
+    let (end, retreat, still) = run_stroke(seed, k, 2.5 + lead + dur, dir, |time| {
+        let a = d / (dur * dur) * step_accel((time - lead) / dur);
+        [a * dir.cos(), a * dir.sin()]
+    });
+    let error = (end[0] - d * 1000.0 * dir.cos()).hypot(end[1] - d * 1000.0 * dir.sin());
+    let case = format!(
+        "{:.1} mm over {dur} s, draw {seed}: at {end:?} mm, error {error:.1} mm, back {retreat:.1} mm",
+        d * 1000.0
+    );
+    (case, error, allowed, retreat, still)
+}
+
+/// `seconds` of horizontal acceleration `acc(time)` [m/s^2] after a calibration of 1 s, with
+/// [`noisy_code`]`(.., k)`'s noise in noise draw `seed`: where the cursor ends [mm], how far
+/// it went back against the direction `dir` [rad] from the farthest it reached along it [mm],
+/// and whether the tracker rests at the end.
+fn run_stroke(
+    seed: u64,
+    k: usize,
+    seconds: f64,
+    dir: f64,
+    acc: impl Fn(f64) -> [f64; 2],
+) -> ([f64; 2], f64, bool) {
+    let lsb = Config::default().m_s2_per_lsb;
     let (mut n, mut t) = noisy_calibrated(seed, k);
     let (mut pos, mut best, mut retreat) = ([0i64; 2], 0f64, 0f64);
     let along = |p: [i64; 2]| (p[0] as f64 * dir.cos() + p[1] as f64 * dir.sin()) * 25.4 / 800.0;
-    for i in 0..((2.5 + lead + dur) * 3000.0) as usize {
-        let u = (i as f64 / 3000.0 - lead) / dur;
-        let a = d / (dur * dur) * step_accel(u);
+    for i in 0..(seconds * 3000.0) as usize {
+        let a = acc(i as f64 / 3000.0);
         let c = [
-            noisy_code(&mut n, 2048.0 + a * dir.cos() / lsb, k),
-            noisy_code(&mut n, 2048.0 + a * dir.sin() / lsb, k),
+            noisy_code(&mut n, 2048.0 + a[0] / lsb, k),
+            noisy_code(&mut n, 2048.0 + a[1] / lsb, k),
             noisy_code(&mut n, 2048.0, k),
         ];
         t.feed(&[c]);
@@ -2406,12 +2429,7 @@ fn stroke_outcome(
         }
     }
     let end = [pos[0] as f64, pos[1] as f64].map(|p| p * 25.4 / 800.0);
-    let error = (end[0] - d * 1000.0 * dir.cos()).hypot(end[1] - d * 1000.0 * dir.sin());
-    let case = format!(
-        "{:.1} mm over {dur} s, draw {seed}: at {end:?} mm, error {error:.1} mm, back {retreat:.1} mm",
-        d * 1000.0
-    );
-    (case, error, allowed, retreat, t.is_still())
+    (end, retreat, t.is_still())
 }
 
 /// Legs `(d m, dur s, deg)` of minimum-jerk strokes back to back after 1 s of rest, with
@@ -3506,29 +3524,13 @@ fn asym_acc(d: f64, t_acc: f64, t_dec: f64, deg: f64, time: f64) -> [f64; 2] {
 /// error and what target 1 allows (max(5 %, 3 floors), the floor `ND T^1.5 / sqrt 6` for `T =
 /// t_acc + t_dec`) [mm], and how far the cursor went back against the stroke [mm].
 fn asym_outcome(d: f64, t_acc: f64, t_dec: f64, lead: f64, seed: u64) -> (String, f64, f64, f64) {
-    let (deg, lsb) = (3.0f64, Config::default().m_s2_per_lsb);
+    let deg = 3.0f64;
     let dir = deg.to_radians();
-    let nd = 23f64.sqrt() * lsb / 1500f64.sqrt();
+    let nd = 23f64.sqrt() * Config::default().m_s2_per_lsb / 1500f64.sqrt();
     let allowed = (0.05 * d).max(3.0 * nd * (t_acc + t_dec).powf(1.5) / 6f64.sqrt()) * 1000.0;
-    let (mut n, mut t) = noisy_calibrated(seed, 2);
-    let (mut pos, mut best, mut retreat) = ([0i64; 2], 0f64, 0f64);
-    let along = |p: [i64; 2]| (p[0] as f64 * dir.cos() + p[1] as f64 * dir.sin()) * 25.4 / 800.0;
-    for i in 0..((lead + t_acc + t_dec + 4.0) * 3000.0) as usize {
-        let a = asym_acc(d, t_acc, t_dec, deg, i as f64 / 3000.0 - lead);
-        let c = [
-            noisy_code(&mut n, 2048.0 + a[0] / lsb, 2),
-            noisy_code(&mut n, 2048.0 + a[1] / lsb, 2),
-            noisy_code(&mut n, 2048.0, 2),
-        ];
-        t.feed(&[c]);
-        if i % 3 == 2 {
-            let c = t.take_counts();
-            pos = [pos[0] + i64::from(c[0]), pos[1] + i64::from(c[1])];
-            best = best.max(along(pos));
-            retreat = retreat.max(best - along(pos));
-        }
-    }
-    let end = [pos[0] as f64, pos[1] as f64].map(|p| p * 25.4 / 800.0);
+    let (end, retreat, _) = run_stroke(seed, 2, lead + t_acc + t_dec + 4.0, dir, |time| {
+        asym_acc(d, t_acc, t_dec, deg, time - lead)
+    });
     let error = (end[0] - d * 1000.0 * dir.cos()).hypot(end[1] - d * 1000.0 * dir.sin());
     let case = format!(
         "{:.1} mm over {t_acc} + {t_dec} s, draw {seed}: at {end:.1?} mm, error {error:.1} mm, back {retreat:.1} mm",
