@@ -193,7 +193,8 @@ pub struct Motion {
     /// Started on a disturbed desk and not yet out of the disturbance's velocity.
     pub(crate) unproven: bool,
     /// Started as a long stroke's first lobe left the blocks, its second lobe going on
-    /// ([`super::rest`]): it does not stop while that lobe decelerates it.
+    /// ([`super::rest`]): it does not stop while that lobe decelerates it (the long stroke's
+    /// stop guard).
     pub(crate) long: bool,
     /// The horizontal velocities (`W`) summed at each block's end since the onset, of the
     /// motion this one resumes too: the direction of its travel, for the bridge.
@@ -495,21 +496,30 @@ impl Detector {
     }
 
     /// Whether a long stroke's motion ([`Motion`]'s `long`) is still decelerating: on X or Y
-    /// the last long sub-window of the tilt tests is significant against its travel. A slow
-    /// stroke's deceleration is within the quiet test's 20 ms (a 25 mm stroke over 2 s
-    /// decelerates at 3.5 mg, a 20 ms mean's sd is 1.5 mg), not within the long sub-window's.
-    /// Against the travel, not the velocity: found late in its first lobe, the motion's
-    /// velocity is short of the hand's by what that lobe gave before, and its deceleration
-    /// takes it through zero before the hand stops.
+    /// the last long sub-window of the tilt tests is significant against its travel, or the
+    /// tick ring's mean acceleration (its last 320 ms) points against its velocity,
+    /// significant or not. A slow stroke's deceleration is within the quiet test's 20 ms (a
+    /// 25 mm stroke over 2 s decelerates at 3.5 mg, a 20 ms mean's sd is 1.5 mg), not within
+    /// the long sub-window's. Against the travel, not the velocity: found late in its first
+    /// lobe, the motion's velocity is short of the hand's by what that lobe gave before, and
+    /// its deceleration takes it through zero before the hand stops. The ring's sign alone:
+    /// near the floor the deceleration stays under the sub-window's test for most of its
+    /// length, and released at its velocity explained, the motion took the hand's velocity
+    /// left for error and its stop's bridge moved it back (20 mm over 2 s at 4.8 LSB of
+    /// noise a sample: 10 of 48 draws back by more than 2 mm, 4 with it). Once the hand has
+    /// stopped, the ring holds its deceleration for at most its length; on noise the sign is
+    /// then a coin's, and a zero's error against the velocity drives that velocity through
+    /// zero, where the sign turns: the wait ends.
     /// (Before its first block's end it has no travel yet: its velocity `W` then.)
     fn long_decelerating(&self, s: &DriftSettings, bias: [i64; 3], w: [i64; 3]) -> bool {
         let t = self.motion.travel;
         let d = if t == [0; 2] { [w[0], w[1]] } else { t };
+        let ring = self.stream.ticks().saturating_sub(super::RING as u64);
         self.motion.long
-            && (0..2).any(|a| {
+            && ((0..2).any(|a| {
                 let sign = self.sub_sign(s, (1, a, 0), bias[a], s.k2_q8);
                 sign != 0 && i64::from(sign) * d[a].signum() < 0
-            })
+            }) || self.decelerates(s, ring, bias, [w[0], w[1]]))
     }
 
     /// Whether the horizontal acceleration since `onset` (the raw ticks since, at least the
