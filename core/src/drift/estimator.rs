@@ -136,7 +136,10 @@
 //! sub-window (400 ms, where that deceleration is several sd) is significant against its
 //! travel (its velocity before its first block's end): against the travel, not the
 //! velocity, which the deceleration takes through zero before the hand stops (10 of the 48
-//! still go back more than 2 mm, each by at most 7.3).
+//! still went back more than 2 mm, each by at most 7.3). Nor while the tick ring's mean
+//! acceleration points against its velocity, significant or not: near the floor the
+//! deceleration stays under the sub-window's test for most of its length (4 of the 48 go
+//! back more than 2 mm with it; the guard's own docs).
 //!
 //! # What sampling leaves
 //! A minimum-jerk stroke's acceleration starts and ends with a jerk step of `32 v / D^2`

@@ -557,13 +557,11 @@ impl Detector {
             }
         }
         if let Some(onset) = alarm {
-            let sd = [self.noise[0].sd_q16, self.noise[1].sd_q16];
-            let onset = self.rest.first_lobe_across(s, onset, sd).max(self.entered);
+            let onset = self.onset_across(s, onset);
             return self.start(s, onset, step, lone, false, bias);
         }
         if let Some(onset) = leaving {
-            let sd = [self.noise[0].sd_q16, self.noise[1].sd_q16];
-            let onset = self.rest.first_lobe_across(s, onset, sd).max(self.entered);
+            let onset = self.onset_across(s, onset);
             return self.start(s, onset, false, false, true, bias);
         }
         self.track_zero(s, bias)
@@ -597,10 +595,16 @@ impl Detector {
         }
         alarm.map_or(Action::None, |onset| {
             // The onset the tick's end would give: a slow run's first lobe, on either axis.
-            let sd = [self.noise[0].sd_q16, self.noise[1].sd_q16];
-            let onset = self.rest.first_lobe_across(s, onset, sd).max(self.entered);
+            let onset = self.onset_across(s, onset);
             self.start(s, onset, step, lone, false, bias)
         })
+    }
+
+    /// A start's onset `onset` moved back to a slow run's first lobe on either horizontal axis
+    /// ([`Rest::first_lobe_across`]), never before this rest: every start test's.
+    fn onset_across(&self, s: &DriftSettings, onset: u64) -> u64 {
+        let sd = [self.noise[0].sd_q16, self.noise[1].sd_q16];
+        self.rest.first_lobe_across(s, onset, sd).max(self.entered)
     }
 
     /// Whether the velocity of a motion replayed from `blocks` complete blocks back, from
