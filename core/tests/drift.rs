@@ -3575,3 +3575,19 @@ fn a_stroke_that_eases_in_and_stops_sharply_starts_from_its_first_lobe() {
         );
     }
 }
+
+#[test]
+fn a_stroke_that_came_to_rest_near_the_velocity_it_resumed_did_not_hold_it() {
+    // 20 mm along X over 1.2 s, then 0.1 s at rest, then 25 mm over 0.3 s at 120 degrees,
+    // with 6.8 LSB of white noise a sample (428 ug/sqrt(Hz)). The slow stroke stops with a
+    // velocity its uncertainty explains and keeps it for the stop's wait; the brisk one
+    // begins within it, its first lobe against that velocity, and resumes it as the rest of
+    // a deceleration, with the stopped motion's uncertainty. It came to rest with a velocity
+    // nearer the one it resumed than zero: it carried that velocity, a motion of its own.
+    // Its stop takes back what the carried velocity moved over its own samples and bridges
+    // only its own velocity error. Draws 17 and 43 end 1.8 and 8.1 mm off, within max(5 % of
+    // the 45 mm path, 3 floors of the 1.6 s) = 10.4 mm; control: bridged as one motion over
+    // the whole span, 10.9 and 10.6 mm off.
+    let legs = [(0.02, 1.2, 0.0), (0.0, 0.1, 0.0), (0.025, 0.3, 120.0)];
+    zigzag_arrives(&legs, [17, 43], 4);
+}

@@ -660,7 +660,9 @@ impl Detector {
         let blocks = (done - onset_block.min(done))
             .min(BLOCKS as u64 - 1)
             .min(done.saturating_sub(1));
-        let latent = self.take_latent(s, onset, bias);
+        let samples = blocks * u64::from(s.block) * u64::from(s.tick)
+            + u64::from(self.stream.samples_in_block());
+        let latent = self.take_latent(s, onset, bias, samples);
         // A disturbed device's velocity at the onset is the disturbance's, not zero: the one
         // whose integral over the rest before averages to zero (ticks.rs). Only from rest.
         let disturbed = self.shaken_xy();
@@ -677,12 +679,8 @@ impl Detector {
         };
         self.enter(State::Moving);
         self.stream.band_span_refresh(s, bias);
-        let samples = blocks * u64::from(s.block) * u64::from(s.tick)
-            + u64::from(self.stream.samples_in_block());
-        self.motion.begin(
-            latent.map_or(samples, |(_, since)| since.max(samples)),
-            latent.is_some(),
-        );
+        self.motion
+            .begin(latent.map_or(samples, |(_, span)| span), latent.is_some());
         self.motion.unproven =
             (disturbed || unproven) && !self.replay_stood_out(s, blocks, shaking, bias);
         self.motion.long = unproven;
