@@ -3585,7 +3585,7 @@ fn a_stroke_that_came_to_rest_near_the_velocity_it_resumed_did_not_hold_it() {
     // a deceleration, with the stopped motion's uncertainty. It came to rest with a velocity
     // nearer the one it resumed than zero: it carried that velocity, a motion of its own.
     // Its stop takes back what the carried velocity moved over its own samples and bridges
-    // only its own velocity error. Draws 17 and 43 end 1.8 and 8.1 mm off, within max(5 % of
+    // only its own velocity error. Draws 17 and 43 end 3.0 and 1.8 mm off, within max(5 % of
     // the 45 mm path, 3 floors of the 1.6 s) = 10.4 mm; control: bridged as one motion over
     // the whole span, 10.9 and 10.6 mm off.
     let legs = [(0.02, 1.2, 0.0), (0.0, 0.1, 0.0), (0.025, 0.3, 120.0)];
