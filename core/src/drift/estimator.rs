@@ -128,19 +128,19 @@
 //! Either way the resuming motion's stop judges the resumption. The rest of a deceleration
 //! or a ramp down brings the resumed velocity `W_r` to zero; a motion of its own (a stroke
 //! begun within the wait whose first lobe happens to point against `W_r`, half of them; a
-//! knock's tiny motion before a stroke; a glide's stale velocity taken up by the next
-//! stroke seconds later) comes to rest with `W_r` still in its velocity. So a stop whose
-//! velocity is nearer `W_r` than zero (the likelihood ratio's side, as for the faded glide
-//! above) carried it: its correction takes back what `W_r` moved over the motion's own
-//! samples (`Z -= 2 W_r n_own`) and bridges only the rest of the velocity over them. A
-//! faded glide's own span is left as its stop left it: it was a hand's glide at its start,
-//! its velocity lost within its uncertainty only as it faded (its bridge added as well took
-//! the lab's families nowhere and a new tester's mixed sessions 84.2 -> 83.9 % within). Bridged as one motion over the whole span, its
-//! wait included, a 26.7 mm stroke over 0.3 s at 150 ug/sqrt(Hz) that took up a 4.4 mm/s
-//! glide 2.3 s old jumped 8.6 mm at its stop (a twenty-fifth tester's mixed sessions: 6.9
-//! mm off, 0.1 now); of the lab's knocky strokes on seeds 1-21, 10 more within and 1 less.
-//! The judgment needs no memory of its own: the resumed velocity stays in [`Latent`] until
-//! the stop.
+//! stroke after a knock's tiny motion; a faded glide's velocity taken up by the next stroke
+//! seconds later) comes to rest with `W_r` still in its velocity. So a stop whose velocity
+//! is nearer `W_r` than zero (the likelihood ratio's side, as for the faded glide above)
+//! carried it: its correction takes back what `W_r` moved over the motion's own samples
+//! (`Z -= 2 W_r n_own`) and bridges only the rest of the velocity over them. A faded
+//! glide's own span is left as its stop left it: it was a hand's glide at its start, its
+//! velocity lost within its uncertainty only as it faded (bridged too, the lab's families
+//! were the same and a new tester's mixed sessions 84.2 -> 83.9 % within). Bridged as one
+//! motion over the whole span, the wait included, a 26.7 mm stroke over 0.3 s at 150
+//! ug/sqrt(Hz) that took up a 4.4 mm/s glide 2.3 s old jumped 8.6 mm at its stop (that
+//! tester's: 6.9 mm off, 0.1 now); of the lab's knocky strokes on seeds 1-21, 10 more
+//! within and 1 less. The judgment needs no memory of its own: the resumed velocity stays
+//! in [`Latent`] until the stop.
 //!
 //! # A long stroke's deceleration
 //! A motion started as a long stroke's first lobe left the blocks ([`super::rest`]) begins
