@@ -288,6 +288,12 @@ impl Motion {
                 .saturating_mul(n)
                 .saturating_sub(self.corrected[a])
         });
+        self.correct(dz)
+    }
+
+    /// The correction `dz` (`Z = 4 S` units) if it does not move the cursor back against
+    /// the travel, counted as made; else none.
+    fn correct(&mut self, dz: [i128; 2]) -> [i128; 2] {
         if !forward(dz, self.travel) {
             return [0; 2];
         }
@@ -307,14 +313,7 @@ impl Motion {
         // |w|, |e| < 2^63 and the span held below 2^40 samples (a year at 20 kHz): below
         // 2^105.
         let own = i128::from(own.min(1 << 40));
-        let dz = [0, 1].map(|a| -((2 * i128::from(w[a]) + i128::from(e[a])) * own));
-        if !forward(dz, self.travel) {
-            return [0; 2];
-        }
-        for (c, dz) in self.corrected.iter_mut().zip(dz) {
-            *c = c.saturating_add(dz);
-        }
-        dz
+        self.correct([0, 1].map(|a| -((2 * i128::from(w[a]) + i128::from(e[a])) * own)))
     }
 
     /// A block ended with the velocities `w` (`W`): its share of the travel.
