@@ -963,7 +963,7 @@ const HOVER: CarryThenStroke = CarryThenStroke {
 
 impl CarryThenStroke {
     /// Noise draw `seed`: how far the cursor moved before the stroke, how far the stroke's
-    /// counts end from it, and how far they were from it 50 ms after its end [mm].
+    /// counts end from it, and how far they were from it 0.4 s after its end [mm].
     fn run(&self, seed: u64) -> (f64, f64, f64) {
         let lsb = Config::default().m_s2_per_lsb;
         let (t0, up) = (1.5, 0.25);
@@ -983,7 +983,7 @@ impl CarryThenStroke {
         let mut late = f64::NAN;
         for i in 0..((s0 + dur + 1.5) * 3000.0) as usize {
             let time = i as f64 / 3000.0;
-            if i == ((s0 + dur + 0.05) * 3000.0) as usize {
+            if i == ((s0 + dur + 0.4) * 3000.0) as usize {
                 late = cursor.judge(d, dir).1;
             }
             let (u, v) = (ramp((time - t0) / up), ramp((time - fall) / self.down));
@@ -1069,12 +1069,12 @@ fn a_carry_in_the_air_leaves_its_set_down_on_a_slope_sure() {
     // old rest's orientation within `mount_tilt_deg` of Z puts up to `r` of the horizontal
     // velocity into Z's (`u0 . v`), not `r` of every tick's acceleration summed: the carry's
     // ends cancel. So its fall is sure, and the stroke 1 s after the touch goes out as it is
-    // made. Four noise draws: the re-placement moves nothing, and 50 ms after its end the
-    // stroke has arrived as it ends (its stop is within 30 ms of the end, and the speed a
-    // minimum-jerk stroke ends with is zero): within 0.1 mm, three counts. Control: with
-    // `r (|o_x| + |o_y|)` summed over the ticks, the landing was in doubt, the stroke was
-    // held until 0.53 s after its stop, and 50 ms after its end the cursor had not moved
-    // (40 mm off) on each draw.
+    // made. Four noise draws: the re-placement moves nothing, and 0.4 s after its end the
+    // stroke has arrived as it ends (its stop is within 30 ms of the end, the speed a
+    // minimum-jerk stroke ends with is zero, and a late bridge comes 0.32 s after the stop):
+    // within 0.1 mm, three counts. Control: with `r (|o_x| + |o_y|)` summed over the
+    // ticks, the landing was in doubt, the stroke was held until 0.53 s after its stop, and
+    // 0.4 s after its end the cursor had not moved (40 mm off) on each draw.
     let slope = tilt_deg(3.0, 45.0);
     let scene = CarryThenStroke {
         h: 0.02,
@@ -1090,7 +1090,7 @@ fn a_carry_in_the_air_leaves_its_set_down_on_a_slope_sure() {
         assert!(moved <= 5.0, "draw {seed}: moved {moved:.1} mm");
         assert!(
             (late - error).abs() <= 0.1,
-            "draw {seed}: 50 ms after its end {late:.1} mm off, at last {error:.1}"
+            "draw {seed}: 0.4 s after its end {late:.1} mm off, at last {error:.1}"
         );
     }
 }
@@ -2210,16 +2210,68 @@ fn a_stroke_that_ends_short_is_finished_by_its_velocity_left() {
 }
 
 #[test]
-fn a_stroke_that_overshoots_is_never_pulled_back() {
+fn a_stroke_that_overshoots_is_pulled_back_once_the_rest_after_it_shows_the_hand_stopped() {
     // The same error the other way: +1.09 mm/s left along the travel. It may be the hand
-    // still moving (a slow deceleration within the velocity's uncertainty), so the bridge
-    // does not pull the cursor back: it stays over (by the error's 17 counts less the zero's
-    // 9). Control: the bridge pulling back lands within a count of the stroke.
+    // still moving (a slow deceleration within the velocity's uncertainty), so the stop does
+    // not pull the cursor back at once: it stays over (by the error's 17 counts less the
+    // zero's 9) until the tick ring holds only the rest after the stop (320 ms). Over the
+    // stop's wait after it the acceleration is nil, not the rest of a deceleration: the
+    // velocity was error, and the bridge is made then, late. Within a count of the stroke at
+    // last, and still over 0.2 s after the stop. Control: never pulled back (the bridge's
+    // forward test alone, before the late bridge), 723 counts against 723.7 -> 732.
     let truth = erring_stroke_truth();
     assert!(erring_stroke_error(1) > 16.0);
     let mut t = tracker(Some(Drift::default()));
-    let got = run(&mut t, 12_000, erring_stroke(1));
+    // The stroke ends at sample 6000 and stops within 30 ms; 0.2 s after, it has not moved
+    // back.
+    let early = run(&mut t, 6700, erring_stroke(1));
+    assert!(
+        early[0] as f64 - truth > 4.0,
+        "{} against {truth}",
+        early[0]
+    );
+    let got = run(&mut t, 5300, |i| erring_stroke(1)(i + 6700));
+    let got = early[0] + got[0];
+    assert!((got as f64 - truth).abs() <= 1.0, "{got} against {truth}");
+}
+
+#[test]
+fn a_lift_after_a_stop_drops_its_late_bridge() {
+    // The overshooting stroke above, lifted 0.1 s after its stop (Z +54 then -54 LSB over
+    // 0.3 s, 0.15 s in the air, -54 then +54 over 0.3 s): the rest after the stop held a lift,
+    // not a hand's rest, and the pending step is dropped: still over at last. Control: judged
+    // anyway once the ring holds only the rest after the landing, the step is made there.
+    let truth = erring_stroke_truth();
+    let mut t = tracker(Some(Drift::default()));
+    let mut n = Noise(Trace::new(9));
+    let stroke = erring_stroke(1);
+    let got = run(&mut t, 12_000, |i| {
+        let z = match i {
+            6400..=6849 | 8200..=8649 => 2102,
+            6850..=7299 | 7750..=8199 => 1994,
+            _ => 2048,
+        };
+        let [x, y, _] = stroke(i);
+        [x, y, n.code(z)]
+    });
+    assert_eq!(t.counters().lifts, 1);
     assert!(got[0] as f64 - truth > 4.0, "{} against {truth}", got[0]);
+}
+
+#[test]
+fn a_stroke_whose_hand_decelerates_after_its_stop_is_not_pulled_back() {
+    // 30 mm over 1.2 s at 30 degrees with 6.8 LSB of white noise a sample (428
+    // ug/sqrt(Hz)): the stop comes while the hand still decelerates, within the velocity's
+    // uncertainty, the velocity left along the travel. The rest of the deceleration comes
+    // over the stop's wait after it, taking that velocity nearer back to zero than not: the
+    // hand was moving, and no late bridge pulls the cursor back. Draws 10 and 34 end 2.2
+    // and 1.6 mm off (allowed 6.75) and never back by more than 2 mm; control: the late
+    // bridge made without that test, they step back 5.8 and 3.3 mm and end 4.5 and 4.1 off.
+    for seed in [10, 34] {
+        let (case, error, allowed, retreat, _) = stroke_outcome(0.03, 1.2, 30.0, 1.0, seed, 4);
+        assert!(error <= allowed, "{case}, allowed {allowed:.2}");
+        assert!(retreat <= 2.0, "{case}");
+    }
 }
 
 #[test]
@@ -2354,8 +2406,9 @@ fn a_slow_stroke_found_in_its_second_lobe_arrives_from_its_first() {
 /// A minimum-jerk stroke of `d` m over `dur` s at 311 degrees, after 1 s of rest, with
 /// [`wide_code`]'s 4.8 LSB of white noise a sample (noise draw `seed`, calibration
 /// included): it ends within max(5 %, 3 floors) of its length (the floor `ND T^1.5 / sqrt
-/// 6`, ND = 4.8 LSB / sqrt(1500 Hz)), never back against its direction by more than 2 mm,
-/// and the tracker at rest 2.5 s after it.
+/// 6`, ND = 4.8 LSB / sqrt(1500 Hz)), never back against its direction by more than 2 mm or
+/// 3 floors (what a stop's late bridge may step back for its velocity error), and the
+/// tracker at rest 2.5 s after it.
 fn slow_stroke_arrives(d: f64, dur: f64, seed: u64) {
     stroke_arrives(d, dur, 311.0, seed, 2);
 }
@@ -2366,7 +2419,8 @@ fn slow_stroke_arrives(d: f64, dur: f64, seed: u64) {
 fn stroke_arrives(d: f64, dur: f64, deg: f64, seed: u64, k: usize) {
     let (case, error, allowed, retreat, still) = stroke_outcome(d, dur, deg, 1.0, seed, k);
     assert!(error <= allowed, "{case}, allowed {allowed:.1}");
-    assert!(retreat <= 2.0, "{case}");
+    let floor = legs_nd(k) * dur.powf(1.5) / 6f64.sqrt() * 1000.0;
+    assert!(retreat <= (3.0 * floor).max(2.0), "{case}");
     assert!(still, "{case}");
 }
 

@@ -142,9 +142,9 @@
 //! within and 1 less. The judgment needs no memory of its own: the resumed velocity stays
 //! in [`Latent`] until the stop.
 //!
-//! That correction is made whichever way it points. The bridge's premise (below) fails when
-//! the hand still moves at the stop, so the bridge never moves the cursor back; this one's
-//! premise is the judgment itself: the motion came to rest, a deceleration's end and not a
+//! That correction is made whichever way it points, at once. The bridge's premise (below)
+//! fails when the hand still moves at the stop, so the bridge does not move the cursor back
+//! at the stop; this one's premise is the judgment itself: the motion came to rest, a deceleration's end and not a
 //! fade, with `W_r` still in it, so `W_r` was not its hand's. A stroke that takes up a faded
 //! glide along its own way (a slow stroke whose deceleration stayed calm past the fade's
 //! quiet time, the next stroke 0.26 s later in nearly its direction) carried `W_r` along its
@@ -197,14 +197,41 @@
 //! within the velocity's uncertainty: a noisy sensor, a long stroke). The velocity left then
 //! points along the motion, and the correction would move the cursor back by the hand's own
 //! velocity times half the motion. So a correction that points back against the motion's
-//! travel (its velocity summed at each 20 ms block's end) is not made: the bridge only ever
-//! moves the cursor on towards where the hand went, never back (a drag may not retreat; a
-//! carried velocity's correction, above, is another judgment). A motion that
-//! resumes the one that stopped (its hand was still moving) keeps the correction: taking it
-//! back would be a step back; its own stop corrects the whole span less what was corrected
-//! already, again only forwards. A faded glide (its hand may still move) stops without one,
-//! and on a disturbed desk the velocity the disturbance can swing (the velocity test's
-//! allowance) is not taken for error.
+//! travel (its velocity summed at each 20 ms block's end) is not made at the stop: there the
+//! bridge only moves the cursor on towards where the hand went (a carried velocity's
+//! correction, above, is another judgment). A motion that resumes the one that stopped (its
+//! hand was still moving) keeps the correction: taking it back would be a step back; its own
+//! stop corrects the whole span less what was corrected already, again only forwards. A
+//! faded glide (its hand may still move) stops without one, and on a disturbed desk the
+//! velocity the disturbance can swing (the velocity test's allowance) is not taken for
+//! error.
+//!
+//! # The late bridge
+//! Never pulling back is one-sided: a velocity error along the travel is half of all noise
+//! draws, and each left its stroke over by `V n / 2` (of a new tester's strokes at 100 Hz
+//! and 150 ug/sqrt(Hz), 8 ended outside their target, 7 of them long; at 300 ug/sqrt(Hz) a
+//! 14.3 mm stroke over 0.46 s ended 1.6 mm over, its velocity error 5.2 mm/s along the
+//! travel at its stop, the hand at rest). The rest after the stop tells the two apart.
+//! A hand still moving at the stop decelerates after it, within the stop's wait (an eighth of
+//! the longest stroke, where a stroke's rest of deceleration resumes its velocity): the
+//! acceleration over that wait takes the velocity left, `E` (the stop's velocity error, the
+//! disturbance's allowance taken off), back to zero. A velocity that was error leaves the
+//! acceleration after the stop nil. So a stop whose bridge points back keeps it pending
+//! ([`Latent`]'s `pending`, in the latent's padding: no RAM), and once the tick ring holds
+//! only the rest since (`REPLAY` ticks: 0.32 s at 200 Hz and above, 0.51 s at 250 Hz, 0.64 s
+//! at 100 Hz) `Detector::late_bridge` sums the wait's acceleration, `dW`: nearer `-E`
+//! than zero (`2 (-dW) . E > E . E`, the likelihood ratio's side) the hand was moving and
+//! nothing is made; else the bridge is made then, in one step back. No constant: the wait is
+//! the stop's own. It is judged at the ring's end, not the wait's, because a test on every
+//! tick at rest cost the sample path 1.0 instruction a triple at 3 kHz (codegen).
+//!
+//! Only where a step back is the bridge's: not for a motion that glided (calm for the fade's
+//! quiet time while moving, [`Motion`]'s `glided`: a drag's glide, whose velocity error a
+//! step back would retreat by, target 2), nor one longer than the longest stroke, nor one
+//! that resumed a velocity (its span holds another's correction), nor one that came to rest
+//! nearer its mean velocity than zero (a glide's velocity held, or a knock's swing: the
+//! lab's knocks, 21 more over 0.3 mm without it). A motion, a click or a lift within the
+//! ring's time drops the pending step.
 //!
 //! # Error rates
 //! `K^2 = 11.8` (2 degrees of freedom, 0.27 %): a window at rest passes the quiet test with
@@ -243,6 +270,9 @@ pub struct Motion {
     /// What sampling can have left of its velocity: its largest speed at a block's end times
     /// `alias` ([`DriftSettings`]), per horizontal axis [`V`, Q16 counts times samples].
     alias: [u64; 2],
+    /// Glided: calm for the fade's quiet time at some tick (a drag's glide; the late bridge
+    /// never steps it back).
+    pub(crate) glided: bool,
 }
 
 /// A stopped motion's velocity, waiting for the next motion; once that motion resumes it,
@@ -263,6 +293,9 @@ pub struct Latent {
     glide: bool,
     /// Resumed by the motion under way.
     resumed: bool,
+    /// Its stop's bridge points back against a travel that never glided: judged once the
+    /// tick ring holds only the rest after it (`Detector::late_bridge`).
+    pub(crate) pending: bool,
 }
 
 impl Latent {
@@ -286,6 +319,7 @@ impl Motion {
         self.unproven = false;
         self.long = false;
         if !resumes {
+            self.glided = false;
             self.travel = [0; 2];
             self.blocks = 0;
             self.corrected = [0; 2];
@@ -294,26 +328,22 @@ impl Motion {
     }
 
     /// The bridge's correction at this motion's stop with the velocity error `e` (`W`, see
-    /// [`velocity_error`]): `-e n` over its `n` samples (`Z` units: `S -= V n / 2`), less the
-    /// corrections already made to it, or none if that would move the cursor back against
-    /// its travel (see the module docs). Counted as made.
-    fn bridge(&mut self, e: [i64; 2]) -> [i128; 2] {
+    /// [`velocity_error`]), made ([`Motion::made`]) if it does not move the cursor back
+    /// against its travel; else `None`, nothing made (see the module docs).
+    fn bridge(&mut self, e: [i64; 2]) -> Option<[i128; 2]> {
+        let dz = self.bridged(e);
+        forward(dz, self.travel).then(|| self.made(dz))
+    }
+
+    /// The bridge's correction for the velocity error `e` (`W`): `-e n` over its `n` samples,
+    /// less the corrections already made to it [`Z = 4 S` units].
+    fn bridged(&self, e: [i64; 2]) -> [i128; 2] {
         let n = i128::from(self.samples);
-        let dz = [0, 1].map(|a| {
+        [0, 1].map(|a| {
             (-i128::from(e[a]))
                 .saturating_mul(n)
                 .saturating_sub(self.corrected[a])
-        });
-        self.correct(dz)
-    }
-
-    /// The correction `dz` (`Z = 4 S` units) if it does not move the cursor back against
-    /// the travel, counted as made; else none.
-    fn correct(&mut self, dz: [i128; 2]) -> [i128; 2] {
-        if !forward(dz, self.travel) {
-            return [0; 2];
-        }
-        self.made(dz)
+        })
     }
 
     /// The correction `dz` (`Z = 4 S` units), counted as made.
@@ -575,6 +605,7 @@ impl Detector {
         self.latent = Latent {
             at: span - own,
             resumed: true,
+            pending: false,
             ..l
         };
         Some((l.w, span))
@@ -652,8 +683,61 @@ impl Detector {
                 let e = [0, 1].map(|a| v[a].saturating_sub(w[a]));
                 self.motion.unwind(w, velocity_error(e, allow), own)
             }
-            None => self.motion.bridge(velocity_error(v, allow)),
+            None => {
+                let e = velocity_error(v, allow);
+                if let Some(dz) = self.motion.bridge(e) {
+                    return dz;
+                }
+                let stroke = u64::from(s.land_timeout) * u64::from(s.tick);
+                if !self.motion.glided
+                    && !resumed.resumed
+                    && self.motion.samples <= stroke
+                    && !self.motion.mean().is_some_and(|m| nearer_than_zero(v, m))
+                {
+                    self.latent.pending = true;
+                    self.latent.w = e;
+                }
+                [0; 2]
+            }
         }
+    }
+
+    /// A stop's bridge that pointed back ([`Latent`]'s `pending`), judged once the tick ring
+    /// holds only the rest after that stop (`REPLAY` ticks, the device still since): if the
+    /// acceleration over the stop's wait after it (its first `fade_ticks`, where the rest of
+    /// a deceleration would be) took the velocity error `E` the stop left nearer back to zero
+    /// than not (`2 (-dW) . E > E . E`, the likelihood ratio's side), the hand was still
+    /// moving at the stop and decelerated after it: no correction. Else that velocity was
+    /// error, and the bridge is made now, late (see the module docs). Called at the first
+    /// tick `REPLAY` ticks into a rest, with a step pending. Out of line: it runs once a rest
+    /// at most.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn late_bridge(&mut self, s: &DriftSettings, bias: [i64; 3]) -> Option<Action> {
+        self.latent.pending = false;
+        // Still since that stop (a lift since is no rest after it).
+        if self.latent.at != self.entered {
+            return None;
+        }
+        let age = self.age();
+        let wait = u64::from(s.fade_ticks).clamp(1, age);
+        let mut sums = [0u64; 2];
+        for i in age - wait + 1..=age {
+            for (a, sum) in sums.iter_mut().enumerate() {
+                *sum += u64::from(self.stream.code(i, a));
+            }
+        }
+        let n = wait * u64::from(s.tick);
+        // |offset| < 2^58, twice below 2^59.
+        let after = [0, 1].map(|a| -2 * offset(sums[a], n, bias[a]));
+        let e = self.latent.w;
+        if nearer_than_zero(after, e) {
+            return None;
+        }
+        let dz = self.motion.bridged(e);
+        Some(Action::Settle {
+            dz: self.motion.made(dz),
+        })
     }
 
     /// Decisions while moving at a tick's end: the stop, a tilt's shadow, then the tilt
@@ -678,6 +762,7 @@ impl Detector {
         } else {
             self.motion.calm_run + 1
         };
+        self.motion.glided |= self.motion.calm_run >= s.fade_ticks;
         self.motion.long_calm = if chi2 > s.calm_chi2_q8 {
             0
         } else {
@@ -755,6 +840,7 @@ impl Detector {
                     life: if fade { s.glide_ticks } else { s.fade_ticks },
                     glide: fade,
                     resumed: false,
+                    pending: false,
                 };
             }
             // The velocity left is error if the hand decelerated to rest (not a glide that
@@ -830,17 +916,18 @@ mod tests {
         m.begin(100, false);
         m.travelled([50, 0], 0);
         // -(-10) x 100 = 1000 along +X: forward, made.
-        assert_eq!(m.bridge([-10, 0]), [1000, 0]);
+        assert_eq!(m.bridge([-10, 0]), Some([1000, 0]));
         // Resumed: 200 samples, -6 left: 1200 in all, 200 more.
         m.begin(200, true);
-        assert_eq!(m.bridge([-6, 0]), [200, 0]);
-        // Resumed again with +2 left: -400 in all, -1600 more would step back: none.
+        assert_eq!(m.bridge([-6, 0]), Some([200, 0]));
+        // Resumed again with +2 left: -400 in all, -1600 more would step back: none made.
         m.begin(200, true);
-        assert_eq!(m.bridge([2, 0]), [0, 0]);
+        assert_eq!(m.bridge([2, 0]), None);
+        assert_eq!(m.corrected, [1200, 0]);
         // A fresh motion starts from no correction and its own travel.
         m.begin(100, false);
         m.travelled([-50, 0], 0);
-        assert_eq!(m.bridge([2, 0]), [-200, 0]);
+        assert_eq!(m.bridge([2, 0]), Some([-200, 0]));
     }
 
     #[test]
