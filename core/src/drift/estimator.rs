@@ -721,12 +721,7 @@ impl Detector {
         }
         let age = self.age();
         let wait = u64::from(s.fade_ticks).clamp(1, age);
-        let mut sums = [0u64; 2];
-        for i in age - wait + 1..=age {
-            for (a, sum) in sums.iter_mut().enumerate() {
-                *sum += u64::from(self.stream.code(i, a));
-            }
-        }
+        let sums = self.stream.ticks_back(age - wait + 1, age);
         let n = wait * u64::from(s.tick);
         // |offset| < 2^58, twice below 2^59.
         let after = [0, 1].map(|a| -2 * offset(sums[a], n, bias[a]));

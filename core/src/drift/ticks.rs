@@ -231,8 +231,15 @@ impl TickStream {
 
     /// The raw code sums of the last `k` complete ticks (`k <= RING`), per axis.
     pub(crate) fn window(&self, k: u32) -> [u64; 3] {
+        self.ticks_back(1, u64::from(k))
+    }
+
+    /// The raw code sums of the complete ticks `from..=to` back (`1` = the last one,
+    /// `to <= RING`), per axis.
+    #[inline(always)]
+    pub(crate) fn ticks_back(&self, from: u64, to: u64) -> [u64; 3] {
         let mut sums = [0u64; 3];
-        for i in 1..=u64::from(k) {
+        for i in from..=to {
             for (a, sum) in sums.iter_mut().enumerate() {
                 *sum += u64::from(self.code(i, a));
             }
